@@ -1,0 +1,160 @@
+/* cli.c — the `fracterra` command: generate, devices, bench. Exit codes are listed in usage(). */
+#include "cli.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+const char *frt_cli_command = "fracterra";
+
+int frt_cli_fail(int code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "%s: ", frt_cli_command);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    return code;
+}
+
+bool frt_parse_u32(const char *s, uint32_t *out)
+{
+    if (!s || !*s || *s == '-' || *s == '+')
+        return false;
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (errno || *end || v > UINT32_MAX)
+        return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+bool frt_parse_u64(const char *s, uint64_t *out)
+{
+    if (!s || !*s || *s == '-' || *s == '+')
+        return false;
+    char *end;
+    errno = 0;
+    int base = (s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) ? 16 : 10;
+    unsigned long long v = strtoull(s, &end, base);
+    if (errno || *end || end == s)
+        return false;
+    *out = (uint64_t)v;
+    return true;
+}
+
+bool frt_parse_double(const char *s, double *out)
+{
+    if (!s || !*s)
+        return false;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno == ERANGE || *end || end == s || !isfinite(v))
+        return false;
+    *out = v;
+    return true;
+}
+
+bool frt_parse_backend(const char *s, frt_backend *out)
+{
+    if (strcmp(s, "auto") == 0)
+        *out = FRT_BACKEND_DEFAULT;
+    else if (strcmp(s, "vulkan") == 0)
+        *out = FRT_BACKEND_VULKAN;
+    else if (strcmp(s, "cpu") == 0)
+        *out = FRT_BACKEND_CPU;
+    else
+        return false;
+    return true;
+}
+
+static const char *type_name(VkPhysicalDeviceType t)
+{
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
+    default: return "other";
+    }
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "fracterra %s — fractal terrain by random midpoint displacement (FFC / diamond-square)\n"
+               "\n"
+               "Usage:\n"
+               "  fracterra generate [options] -o FILE   generate a heightfield (see: fracterra generate --help)\n"
+               "  fracterra devices                      list Vulkan devices\n"
+               "  fracterra bench [options]              measure points/second per backend\n"
+               "  fracterra --version | --help\n"
+               "\n"
+               "Exit codes: 0 success, 2 bad arguments or input, 3 Vulkan or device failure, 4 file I/O failure.\n",
+            FRT_VERSION_STRING);
+}
+
+static int cmd_devices(int argc, char **argv)
+{
+    frt_cli_command = "fracterra devices";
+    if (argc > 1) {
+        if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+            printf("Usage: fracterra devices\n\nLists the Vulkan devices: index (for --device), name, type, largest "
+                   "device-local heap, largest allocation, largest storage-buffer binding, and whether fracterra "
+                   "can use it.\n");
+            return 0;
+        }
+        return frt_cli_fail(FRT_EXIT_USAGE, "unexpected argument '%s'", argv[1]);
+    }
+    uint32_t n = 0;
+    frt_result r = frt_enumerate_devices(NULL, &n);
+    if (r != FRT_SUCCESS || n == 0)
+        return frt_cli_fail(FRT_EXIT_DEVICE,
+                            "no Vulkan device found. For software Vulkan install Mesa lavapipe (Debian/Ubuntu: "
+                            "apt-get install mesa-vulkan-drivers libvulkan1); --backend cpu needs none");
+    frt_device_info *infos = calloc(n, sizeof *infos);
+    if (!infos)
+        return frt_cli_fail(FRT_EXIT_DEVICE, "out of memory");
+    frt_enumerate_devices(infos, &n);
+    printf("%-5s %-40s %-15s %10s %10s %10s %s\n", "index", "name", "type", "heap MiB", "alloc MiB", "bind MiB",
+           "usable");
+    for (uint32_t i = 0; i < n; ++i)
+        printf("%-5u %-40s %-15s %10.0f %10.0f %10.0f %s\n", infos[i].index, infos[i].name, type_name(infos[i].type),
+               (double)infos[i].device_local_heap_bytes / 1048576.0,
+               (double)infos[i].max_allocation_bytes / 1048576.0,
+               (double)infos[i].max_storage_buffer_range / 1048576.0, infos[i].usable ? "yes" : "no");
+    free(infos);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return FRT_EXIT_USAGE;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
+        printf("fracterra %s (noise spec v%d)\n", FRT_VERSION_STRING, FRT_SPEC_VERSION);
+        return 0;
+    }
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    if (strcmp(cmd, "generate") == 0)
+        return frt_cmd_generate(argc - 1, argv + 1);
+    if (strcmp(cmd, "devices") == 0)
+        return cmd_devices(argc - 1, argv + 1);
+    if (strcmp(cmd, "bench") == 0)
+        return frt_cmd_bench(argc - 1, argv + 1);
+    usage(stderr);
+    return frt_cli_fail(FRT_EXIT_USAGE, "unknown command '%s'", cmd);
+}

@@ -1,0 +1,167 @@
+/* generate_vk.c — the Vulkan generator: one compute dispatch per refinement level in one command buffer. */
+#include "internal.h"
+
+#include <string.h>
+
+#include "spv_generate_b1.h"
+#include "spv_generate_b4.h"
+
+/* Must match `Push` in shaders/generate.comp (std430: the uint64 first, then 32-bit words). */
+struct generate_push {
+    uint64_t grid;
+    uint32_t side, level, shift, cells;
+    uint32_t key[2];
+    float amp_d, amp_s;
+};
+
+enum { LOCAL_SIZE = 8, BLOCK_CELLS = 4 }; /* shaders/generate.comp: local_size 8x8, BLOCK=4 variant */
+
+void frt_generate_vk_release(frt_context *ctx)
+{
+    for (int i = 0; i < 2; ++i)
+        if (ctx->gen_pipeline[i])
+            vkDestroyPipeline(ctx->device, ctx->gen_pipeline[i], NULL);
+    if (ctx->gen_layout)
+        vkDestroyPipelineLayout(ctx->device, ctx->gen_layout, NULL);
+    ctx->gen_pipeline[0] = ctx->gen_pipeline[1] = VK_NULL_HANDLE;
+    ctx->gen_layout = VK_NULL_HANDLE;
+    frt_buffer_destroy(ctx, &ctx->grid);
+    frt_buffer_destroy(ctx, &ctx->staging);
+}
+
+static frt_result ensure_pipelines(frt_context *ctx)
+{
+    frt_result r = FRT_SUCCESS;
+    if (!ctx->gen_pipeline[0])
+        r = frt_pipeline_create(ctx, frt_spv_generate_b1, sizeof frt_spv_generate_b1, sizeof(struct generate_push),
+                                &ctx->gen_pipeline[0], &ctx->gen_layout);
+    if (r == FRT_SUCCESS && !ctx->gen_pipeline[1])
+        r = frt_pipeline_create(ctx, frt_spv_generate_b4, sizeof frt_spv_generate_b4, sizeof(struct generate_push),
+                                &ctx->gen_pipeline[1], &ctx->gen_layout);
+    return r;
+}
+
+/* The grid buffer is kept between calls and regrown when a larger grid comes. */
+static frt_result ensure_buffers(frt_context *ctx, VkDeviceSize bytes)
+{
+    frt_result r = FRT_SUCCESS;
+    if (ctx->grid.buffer && ctx->grid.size < bytes) {
+        frt_buffer_destroy(ctx, &ctx->grid);
+        frt_buffer_destroy(ctx, &ctx->staging);
+    }
+    if (!ctx->grid.buffer)
+        r = frt_buffer_create(ctx, bytes, false, &ctx->grid);
+    /* Device-local memory that is also mappable (lavapipe, integrated GPUs, resizable BAR) is read directly;
+     * otherwise the field is copied to a host-visible staging buffer. */
+    if (r == FRT_SUCCESS && !ctx->grid.mapped && !ctx->staging.buffer)
+        r = frt_buffer_create(ctx, ctx->grid.size, true, &ctx->staging);
+    if (r == FRT_ERROR_OUT_OF_MEMORY)
+        r = frt_set_error(ctx, FRT_ERROR_TOO_LARGE, "the device could not allocate %.1f MiB for the grid (%s)",
+                          (double)bytes / 1048576.0, ctx->error);
+    return r;
+}
+
+static void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                    VkPipelineStageFlags dst, VkAccessFlags dst_access)
+{
+    VkMemoryBarrier mb = {VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = src_access;
+    mb.dstAccessMask = dst_access;
+    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
+}
+
+frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *out, size_t out_count,
+                        frt_run_info *info)
+{
+    if (!ctx)
+        return FRT_ERROR_INVALID_ARGUMENT;
+    double t0 = frt_now_seconds();
+    ctx->error[0] = '\0';
+    frt_terrain_desc d;
+    if (frt_terrain_desc_resolved(desc, &d) != FRT_SUCCESS)
+        return frt_set_error(ctx, FRT_ERROR_INVALID_ARGUMENT, "invalid terrain description");
+    size_t count = frt_heightfield_size(&d);
+    if (count == 0)
+        return frt_set_error(ctx, FRT_ERROR_TOO_LARGE, "grid too large for this host");
+    if (!out || out_count < count)
+        return frt_set_error(ctx, FRT_ERROR_BUFFER_TOO_SMALL, "output holds %zu floats, the grid needs %zu",
+                             out_count, count);
+    const VkDeviceSize bytes = (VkDeviceSize)count * sizeof(float);
+    if (bytes > ctx->info.max_allocation_bytes || bytes > ctx->info.device_local_heap_bytes)
+        return frt_set_error(ctx, FRT_ERROR_TOO_LARGE,
+                             "a %u x %u grid needs %.1f MiB in one allocation; %s allows %.1f MiB per allocation "
+                             "and has a %.1f MiB heap (use fewer levels or --backend cpu)",
+                             frt_grid_side(d.levels), frt_grid_side(d.levels), (double)bytes / 1048576.0,
+                             ctx->info.name, (double)ctx->info.max_allocation_bytes / 1048576.0,
+                             (double)ctx->info.device_local_heap_bytes / 1048576.0);
+    frt_result r = ensure_pipelines(ctx);
+    if (r == FRT_SUCCESS)
+        r = ensure_buffers(ctx, bytes);
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    if (r == FRT_SUCCESS)
+        r = frt_cmd_begin(ctx, &cmd);
+    if (r != FRT_SUCCESS)
+        return r;
+
+    const uint32_t n = d.levels, side = frt_grid_side(n);
+    if (ctx->timestamps) {
+        vkCmdResetQueryPool(cmd, ctx->timestamps, 0, 2);
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, ctx->timestamps, 0);
+    }
+    struct generate_push pc;
+    memset(&pc, 0, sizeof pc);
+    pc.grid = ctx->grid.address;
+    pc.side = side;
+    pc.key[0] = (uint32_t)d.seed;
+    pc.key[1] = (uint32_t)(d.seed >> 32);
+    int bound = -1;
+    for (uint32_t level = 0; level <= n; ++level) {
+        pc.level = level;
+        pc.shift = n - level;
+        pc.cells = level ? 1u << (level - 1) : 1u;
+        pc.amp_d = level ? frt_sigma_diamond(&d, level) : (float)d.sigma;
+        pc.amp_s = level ? frt_sigma_square(&d, level) : 0.0f;
+        /* Blocks of BLOCK_CELLS^2 cells per invocation once a level has enough cells to fill workgroups. */
+        int variant = pc.cells >= LOCAL_SIZE * BLOCK_CELLS ? 1 : 0;
+        uint32_t invocations = variant ? pc.cells / BLOCK_CELLS : pc.cells;
+        uint32_t groups = (invocations + LOCAL_SIZE - 1) / LOCAL_SIZE;
+        if (variant != bound) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, ctx->gen_pipeline[variant]);
+            bound = variant;
+        }
+        vkCmdPushConstants(cmd, ctx->gen_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+        vkCmdDispatch(cmd, groups, groups, 1);
+        if (level < n)
+            barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    }
+    if (ctx->timestamps)
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, ctx->timestamps, 1);
+    if (ctx->grid.mapped) {
+        barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                VK_ACCESS_HOST_READ_BIT);
+    } else {
+        barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        VkBufferCopy region = {0, 0, bytes};
+        vkCmdCopyBuffer(cmd, ctx->grid.buffer, ctx->staging.buffer, 1, &region);
+        barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                VK_ACCESS_HOST_READ_BIT);
+    }
+    r = frt_cmd_submit_wait(ctx, cmd);
+    if (r != FRT_SUCCESS)
+        return r;
+    memcpy(out, ctx->grid.mapped ? ctx->grid.mapped : ctx->staging.mapped, (size_t)bytes);
+
+    if (info) {
+        memset(info, 0, sizeof *info);
+        info->dispatches = n + 1;
+        uint64_t ts[2];
+        if (ctx->timestamps &&
+            vkGetQueryPoolResults(ctx->device, ctx->timestamps, 0, 2, sizeof ts, ts, sizeof ts[0],
+                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
+            info->device_seconds = (double)(ts[1] - ts[0]) * (double)ctx->props.limits.timestampPeriod * 1e-9;
+        info->total_seconds = frt_now_seconds() - t0;
+    }
+    return FRT_SUCCESS;
+}

@@ -1,0 +1,72 @@
+/* reference.c — the CPU reference generator: the contract of docs/ALGORITHM.md §3, written plainly.
+ * Single-threaded and unoptimised on purpose: it is the yardstick every backend is tested against. */
+#include "internal.h"
+
+#include <string.h>
+
+/* Mean of the existing neighbours W, E, N, S of square point (x, y) at spacing s, in the contract's order. */
+static float square_mean(const float *h, uint32_t side, uint32_t x, uint32_t y, uint32_t s)
+{
+    const uint32_t last = side - 1;
+    float nb[4];
+    int n = 0;
+    if (x >= s)
+        nb[n++] = h[(size_t)y * side + (x - s)]; /* W */
+    if (x + s <= last)
+        nb[n++] = h[(size_t)y * side + (x + s)]; /* E */
+    if (y >= s)
+        nb[n++] = h[(size_t)(y - s) * side + x]; /* N */
+    if (y + s <= last)
+        nb[n++] = h[(size_t)(y + s) * side + x]; /* S */
+    if (n == 4)
+        return ((nb[0] + nb[1]) + (nb[2] + nb[3])) * 0.25f;
+    /* n == 3: a border point (a corner is never a square point) */
+    return ((nb[0] + nb[1]) + nb[2]) * frt_one_third();
+}
+
+frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out_count, frt_run_info *info)
+{
+    double t0 = frt_now_seconds();
+    frt_terrain_desc d;
+    if (frt_terrain_desc_resolved(desc, &d) != FRT_SUCCESS)
+        return FRT_ERROR_INVALID_ARGUMENT;
+    size_t count = frt_heightfield_size(&d);
+    if (count == 0)
+        return FRT_ERROR_TOO_LARGE;
+    if (!out || out_count < count)
+        return FRT_ERROR_BUFFER_TOO_SMALL;
+
+    const uint32_t n = d.levels, side = frt_grid_side(n), full = side - 1;
+    const float sigma = (float)d.sigma;
+    memset(out, 0, count * sizeof *out);
+
+    /* Level 0: the four corners, noise at unit-square positions (0|1, 0|1). */
+    for (uint32_t j = 0; j <= 1; ++j)
+        for (uint32_t i = 0; i <= 1; ++i)
+            out[(size_t)(j * full) * side + i * full] = sigma * frt_noise(d.seed, 0, i, j);
+
+    for (uint32_t level = 1; level <= n; ++level) {
+        const uint32_t s = 1u << (n - level);
+        const float sd = frt_sigma_diamond(&d, level), ss = frt_sigma_square(&d, level);
+        /* Diamond points: x/s and y/s both odd; parents are the four diagonal corners. */
+        for (uint32_t y = s; y < full; y += 2 * s)
+            for (uint32_t x = s; x < full; x += 2 * s) {
+                float a = out[(size_t)(y - s) * side + (x - s)], b = out[(size_t)(y - s) * side + (x + s)];
+                float c = out[(size_t)(y + s) * side + (x - s)], e = out[(size_t)(y + s) * side + (x + s)];
+                float mean = ((a + b) + (c + e)) * 0.25f;
+                out[(size_t)y * side + x] = mean + sd * frt_noise(d.seed, level, x / s, y / s);
+            }
+        /* Square points: exactly one of x/s, y/s odd; they read only corners and diamond points. */
+        for (uint32_t y = 0; y <= full; y += s)
+            for (uint32_t x = ((y / s) % 2 == 0) ? s : 0; x <= full; x += 2 * s)
+                out[(size_t)y * side + x] =
+                    square_mean(out, side, x, y, s) + ss * frt_noise(d.seed, level, x / s, y / s);
+    }
+    if (info) {
+        double t = frt_now_seconds() - t0;
+        info->device_seconds = t;
+        info->total_seconds = t;
+        info->dispatches = 0;
+    }
+    return FRT_SUCCESS;
+}
