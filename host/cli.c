@@ -155,6 +155,5 @@ int main(int argc, char **argv)
         return cmd_devices(argc - 1, argv + 1);
     if (strcmp(cmd, "bench") == 0)
         return frt_cmd_bench(argc - 1, argv + 1);
-    usage(stderr);
-    return frt_cli_fail(FRT_EXIT_USAGE, "unknown command '%s'", cmd);
+    return frt_cli_fail(FRT_EXIT_USAGE, "unknown command '%s' (commands: generate, devices, bench; see --help)", cmd);
 }

@@ -51,8 +51,11 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(VkDebugUtilsMessageSeverityF
                                                     VkDebugUtilsMessageTypeFlagsEXT types,
                                                     const VkDebugUtilsMessengerCallbackDataEXT *data, void *user)
 {
-    (void)types;
     frt_context *ctx = user;
+    /* Before the instance exists, general messages are the loader's own (e.g. "Found no drivers" when none is
+     * installed); that case is reported once, as FRT_ERROR_NO_DEVICE with an install hint. */
+    if (!ctx->instance && !(types & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT))
+        return VK_FALSE;
     if (severity & (VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT)) {
         ctx->validation_messages++;
         fprintf(stderr, "fracterra: Vulkan validation: %s\n", data && data->pMessage ? data->pMessage : "(no text)");

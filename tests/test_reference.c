@@ -1,0 +1,172 @@
+/* test_reference.c — host/reference.c and host/desc.c: the contract's exact properties on the CPU, per-level
+ * statistics, and the Hurst exponent recovered from the variogram. */
+#include "stats.h"
+
+static float *gen(uint32_t levels, double hurst, double sigma, uint64_t seed)
+{
+    frt_terrain_desc d = {0};
+    d.levels = levels, d.hurst = hurst, d.sigma = sigma, d.seed = seed, d.seed_is_explicit = true;
+    size_t count = frt_heightfield_size(&d);
+    float *h = check_alloc(count * sizeof *h);
+    frt_result r = frt_generate_cpu(&d, h, count, NULL);
+    CHECK(r == FRT_SUCCESS, "generate_cpu: %s", frt_result_string(r));
+    return h;
+}
+
+static void test_desc(void)
+{
+    frt_terrain_desc d = {0}, r;
+    CHECK(frt_terrain_desc_resolved(&d, &r) == FRT_SUCCESS, "zero desc is valid");
+    CHECK(r.levels == 9 && r.hurst == 0.8 && r.sigma == 1.0 && r.seed == 1 && r.edge == FRT_EDGE_FFC,
+          "defaults: levels %u H %g sigma %g seed %llu", r.levels, r.hurst, r.sigma, (unsigned long long)r.seed);
+    CHECK(frt_terrain_desc_resolved(NULL, &r) == FRT_SUCCESS && r.levels == 9, "NULL desc means defaults");
+    CHECK(frt_heightfield_size(&d) == 513u * 513u, "default size %zu", frt_heightfield_size(&d));
+    d.seed_is_explicit = true;
+    CHECK(frt_terrain_desc_resolved(&d, &r) == FRT_SUCCESS && r.seed == 0, "explicit seed 0 is kept");
+    frt_terrain_desc bad = {0};
+    bad.hurst = 1.0;
+    CHECK(frt_terrain_desc_resolved(&bad, &r) == FRT_ERROR_INVALID_ARGUMENT, "H = 1 rejected");
+    bad.hurst = -0.1;
+    CHECK(frt_heightfield_size(&bad) == 0, "H < 0 has no size");
+    bad.hurst = NAN;
+    CHECK(frt_terrain_desc_resolved(&bad, &r) == FRT_ERROR_INVALID_ARGUMENT, "H NaN rejected");
+    bad.hurst = 0.5;
+    bad.levels = FRT_MAX_LEVELS + 1;
+    CHECK(frt_terrain_desc_resolved(&bad, &r) == FRT_ERROR_INVALID_ARGUMENT, "too many levels rejected");
+    bad.levels = 4;
+    bad.sigma = INFINITY;
+    CHECK(frt_terrain_desc_resolved(&bad, &r) == FRT_ERROR_INVALID_ARGUMENT, "infinite sigma rejected");
+    CHECK(frt_grid_side(0) == 0 && frt_grid_side(1) == 3 && frt_grid_side(15) == 32769, "grid sides");
+    float small[8];
+    frt_terrain_desc d2 = {0};
+    d2.levels = 2;
+    CHECK(frt_generate_cpu(&d2, small, 8, NULL) == FRT_ERROR_BUFFER_TOO_SMALL, "5x5 needs 25 floats");
+    CHECK(strcmp(frt_result_string(FRT_ERROR_TOO_LARGE), "grid too large for the device or host") == 0, "strings");
+    /* sD, sS: sigma 2^-(l-1/2)H and sigma 2^-lH, rounded once to float. */
+    frt_terrain_desc rr = {0};
+    frt_terrain_desc_resolved(&rr, &rr);
+    CHECK(frt_sigma_diamond(&rr, 1) == (float)exp2(-0.4) && frt_sigma_square(&rr, 3) == (float)exp2(-2.4),
+          "per-level amplitudes");
+}
+
+/* The contract written out for single points, checked against the whole-field generator. */
+static void test_contract_points(void)
+{
+    const uint32_t n = 5, side = 33, full = 32;
+    const double hurst = 0.65, sigma = 2.5;
+    const uint64_t seed = 0x123456789abcdefull;
+    float *h = gen(n, hurst, sigma, seed);
+    frt_terrain_desc d = {0};
+    d.levels = n, d.hurst = hurst, d.sigma = sigma, d.seed = seed, d.seed_is_explicit = true;
+    frt_terrain_desc_resolved(&d, &d);
+    /* corners: sigma * g(0, i, j) */
+    CHECK(h[0] == (float)sigma * frt_noise(seed, 0, 0, 0), "corner (0,0)");
+    CHECK(h[full] == (float)sigma * frt_noise(seed, 0, 1, 0), "corner (M-1,0) uses i = 1");
+    CHECK(h[(size_t)full * side] == (float)sigma * frt_noise(seed, 0, 0, 1), "corner (0,M-1) uses j = 1");
+    /* level 1 diamond: the centre */
+    float mean = ((h[0] + h[full]) + (h[(size_t)full * side] + h[(size_t)full * side + full])) * 0.25f;
+    CHECK(h[16 * side + 16] == mean + frt_sigma_diamond(&d, 1) * frt_noise(seed, 1, 1, 1), "centre");
+    /* every border square point is the 3-point mean, in the order W, E, N, S, times the float nearest 1/3 */
+    size_t checked = 0, wrong = 0;
+    for (uint32_t level = 1; level <= n; ++level) {
+        uint32_t s = 1u << (n - level);
+        float amp = frt_sigma_square(&d, level);
+        for (uint32_t t = s; t < full; t += 2 * s) {
+            /* top (y = 0): W, E, S */
+            float top = ((h[t - s] + h[t + s]) + h[(size_t)s * side + t]) * frt_one_third();
+            wrong += h[t] != top + amp * frt_noise(seed, level, t / s, 0);
+            /* left (x = 0): E, N, S */
+            float left = ((h[(size_t)t * side + s] + h[(size_t)(t - s) * side]) + h[(size_t)(t + s) * side]) *
+                         frt_one_third();
+            wrong += h[(size_t)t * side] != left + amp * frt_noise(seed, level, 0, t / s);
+            /* bottom (y = M-1): W, E, N */
+            size_t b = (size_t)full * side;
+            float bottom = ((h[b + t - s] + h[b + t + s]) + h[b - (size_t)s * side + t]) * frt_one_third();
+            wrong += h[b + t] != bottom + amp * frt_noise(seed, level, t / s, full / s);
+            /* right (x = M-1): W, N, S */
+            float right = ((h[(size_t)t * side + full - s] + h[(size_t)(t - s) * side + full]) +
+                           h[(size_t)(t + s) * side + full]) *
+                          frt_one_third();
+            wrong += h[(size_t)t * side + full] != right + amp * frt_noise(seed, level, full / s, t / s);
+            checked += 4;
+        }
+    }
+    CHECK(wrong == 0 && checked == 4 * 31, "%zu of %zu border points are not the 3-point mean + noise", wrong,
+          checked);
+    free(h);
+}
+
+static void test_exact_properties(void)
+{
+    /* Resolution independence: the grid at n is every 2^k-th point of the grid at n + k. */
+    float *a = gen(6, 0.7, 1.0, 42), *b = gen(9, 0.7, 1.0, 42);
+    size_t wrong = 0;
+    for (uint32_t y = 0; y <= 64; ++y)
+        for (uint32_t x = 0; x <= 64; ++x)
+            wrong += a[y * 65 + x] != b[(size_t)(8 * y) * 513 + 8 * x];
+    CHECK(wrong == 0, "resolution independence: %zu of 4225 points differ", wrong);
+    /* Determinism and seed sensitivity. */
+    float *c = gen(9, 0.7, 1.0, 42), *e = gen(9, 0.7, 1.0, 43);
+    CHECK(memcmp(b, c, 513 * 513 * sizeof(float)) == 0, "same inputs, same bytes");
+    size_t same = 0;
+    for (size_t i = 0; i < 513 * 513; ++i)
+        same += b[i] == e[i];
+    CHECK(same < 513 * 513 / 1000, "another seed gives another field (%zu equal points)", same);
+    /* Negative sigma inverts exactly: every step is odd in sigma and rounding is symmetric. */
+    float *f = gen(9, 0.7, -1.0, 42);
+    wrong = 0;
+    for (size_t i = 0; i < 513 * 513; ++i)
+        wrong += f[i] != -b[i];
+    CHECK(wrong == 0, "sigma -1 is the exact negation of sigma 1 (%zu differ)", wrong);
+    /* The 64-bit seed uses both key words. */
+    float *g1 = gen(4, 0.7, 1.0, 1ull << 32), *g0 = gen(4, 0.7, 1.0, 0);
+    CHECK(memcmp(g1, g0, 17 * 17 * sizeof(float)) != 0, "seed high word matters");
+    free(a), free(b), free(c), free(e), free(f), free(g1), free(g0);
+}
+
+static void test_statistics(void)
+{
+    const double hs[3] = {0.3, 0.5, 0.8};
+    for (int k = 0; k < 3; ++k) {
+        frt_terrain_desc d = {0};
+        d.levels = 10, d.hurst = hs[k], d.sigma = 3.0, d.seed = 7, d.seed_is_explicit = true;
+        frt_terrain_desc_resolved(&d, &d);
+        float *h = gen(10, hs[k], 3.0, 7);
+        check_level_statistics("cpu", h, &d);
+        free(h);
+    }
+}
+
+/* H from the variogram gamma(d) ~ d^(2H) at 1025^2: lags 4..128, gamma averaged over 8 seeds. */
+static void test_hurst_estimate(void)
+{
+    const double hs[3] = {0.3, 0.5, 0.8};
+    double est[3];
+    for (int k = 0; k < 3; ++k) {
+        double lx[6], ly[6] = {0};
+        for (int seed = 1; seed <= 8; ++seed) {
+            float *h = gen(10, hs[k], 1.0, (uint64_t)seed);
+            for (int i = 0; i < 6; ++i)
+                ly[i] += variogram(h, 1025, 4u << i) / 8.0;
+            free(h);
+        }
+        for (int i = 0; i < 6; ++i)
+            lx[i] = log(4.0 * (1 << i)), ly[i] = log(ly[i]);
+        est[k] = slope(lx, ly, 6) / 2.0;
+        /* 0.1 as the issue asks. Midpoint displacement is not stationary fBm, and this estimator reads it about
+         * 0.05 low at H = 0.8 (Peitgen & Saupe 1988, §2.3.2, on its "creases"); seeds vary it by ~0.02. */
+        CHECK(fabs(est[k] - hs[k]) <= 0.1, "H %.1f estimated as %.3f", hs[k], est[k]);
+        printf("variogram H: true %.1f, estimated %.3f\n", hs[k], est[k]);
+    }
+    CHECK(est[0] < est[1] && est[1] < est[2], "estimates monotone in H: %.3f %.3f %.3f", est[0], est[1], est[2]);
+}
+
+int main(void)
+{
+    test_desc();
+    test_contract_points();
+    test_exact_properties();
+    test_statistics();
+    test_hurst_estimate();
+    return check_summary("test_reference");
+}
