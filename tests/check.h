@@ -4,6 +4,7 @@
 
 #include "internal.h"
 
+#include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,6 +43,18 @@ static inline void *check_alloc(size_t bytes)
     return p;
 }
 
+/* Under LeakSanitizer: the Vulkan loader unloads the driver and layer libraries when the instance goes, and their
+ * process-lifetime allocations then show as "<unknown module>", which no suppression can name. Loading them
+ * once more with RTLD_NODELETE keeps them mapped so tests/lsan.supp can match them by library name. */
+static inline void check_pin_vulkan_modules(void)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    const char *libs[] = {"libvulkan_lvp.so", "libVkLayer_khronos_validation.so"};
+    for (int i = 0; i < 2; ++i)
+        (void)dlopen(libs[i], RTLD_NOW | RTLD_NODELETE);
+#endif
+}
+
 /* A context with validation on where installed (required when FRT_TEST_REQUIRE_VALIDATION=1). Returns NULL when
  * there is no Vulkan device and FRT_TEST_REQUIRE_VULKAN is not 1 (the caller then skips); with it set, a missing
  * device is a failure. */
@@ -49,6 +62,7 @@ static inline frt_context *check_context(void)
 {
     const char *req_val = getenv("FRT_TEST_REQUIRE_VALIDATION");
     const char *req_vk = getenv("FRT_TEST_REQUIRE_VULKAN");
+    check_pin_vulkan_modules();
     frt_context_desc cd;
     memset(&cd, 0, sizeof cd);
     cd.device = getenv("FRT_TEST_DEVICE");
