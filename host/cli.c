@@ -89,15 +89,16 @@ static const char *type_name(VkPhysicalDeviceType t)
 
 static void usage(FILE *f)
 {
-    fprintf(f, "fracterra %s — fractal terrain by random midpoint displacement (FFC / diamond-square)\n"
-               "\n"
-               "Usage:\n"
-               "  fracterra generate [options] -o FILE   generate a heightfield (see: fracterra generate --help)\n"
-               "  fracterra devices                      list Vulkan devices\n"
-               "  fracterra bench [options]              measure points/second per backend\n"
-               "  fracterra --version | --help\n"
-               "\n"
-               "Exit codes: 0 success, 2 bad arguments or input, 3 Vulkan or device failure, 4 file I/O failure.\n",
+    fprintf(f,
+            "fracterra %s — fractal terrain by random midpoint displacement (FFC / diamond-square)\n"
+            "\n"
+            "Usage:\n"
+            "  fracterra generate [options] -o FILE   generate a heightfield (see: fracterra generate --help)\n"
+            "  fracterra devices                      list Vulkan devices\n"
+            "  fracterra bench [options]              measure points/second per backend\n"
+            "  fracterra --version | --help\n"
+            "\n"
+            "Exit codes: 0 success, 2 bad arguments or input, 3 Vulkan or device failure, 4 file I/O failure.\n",
             FRT_VERSION_STRING);
 }
 
@@ -127,8 +128,7 @@ static int cmd_devices(int argc, char **argv)
            "usable");
     for (uint32_t i = 0; i < n; ++i)
         printf("%-5u %-40s %-15s %10.0f %10.0f %10.0f %s\n", infos[i].index, infos[i].name, type_name(infos[i].type),
-               (double)infos[i].device_local_heap_bytes / 1048576.0,
-               (double)infos[i].max_allocation_bytes / 1048576.0,
+               (double)infos[i].device_local_heap_bytes / 1048576.0, (double)infos[i].max_allocation_bytes / 1048576.0,
                (double)infos[i].max_storage_buffer_range / 1048576.0, infos[i].usable ? "yes" : "no");
     free(infos);
     return 0;

@@ -66,8 +66,8 @@ int frt_cmd_bench(int argc, char **argv)
             char *dash = strchr(buf, '-');
             if (dash)
                 *dash = '\0';
-            if (!frt_parse_u32(buf, &lo) || (dash ? !frt_parse_u32(dash + 1, &hi) : ((hi = lo), false)) ||
-                lo < 1 || hi > FRT_MAX_LEVELS || lo > hi)
+            if (!frt_parse_u32(buf, &lo) || (dash ? !frt_parse_u32(dash + 1, &hi) : ((hi = lo), false)) || lo < 1 ||
+                hi > FRT_MAX_LEVELS || lo > hi)
                 return frt_cli_fail(FRT_EXIT_USAGE, "--levels must be A or A-B with 1 <= A <= B <= %u, got '%s'",
                                     FRT_MAX_LEVELS, optarg);
             break;

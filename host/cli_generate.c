@@ -58,13 +58,17 @@ int frt_cmd_generate(int argc, char **argv)
 {
     frt_cli_command = "fracterra generate";
     enum { OPT_LEVELS = 256, OPT_HURST, OPT_DIMENSION, OPT_SIGMA, OPT_SEED, OPT_BACKEND, OPT_DEVICE };
-    static const struct option opts[] = {
-        {"levels", required_argument, 0, OPT_LEVELS},   {"hurst", required_argument, 0, OPT_HURST},
-        {"dimension", required_argument, 0, OPT_DIMENSION}, {"sigma", required_argument, 0, OPT_SIGMA},
-        {"seed", required_argument, 0, OPT_SEED},       {"backend", required_argument, 0, OPT_BACKEND},
-        {"device", required_argument, 0, OPT_DEVICE},   {"output", required_argument, 0, 'o'},
-        {"quiet", no_argument, 0, 'q'},                 {"help", no_argument, 0, 'h'},
-        {0, 0, 0, 0}};
+    static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
+                                         {"hurst", required_argument, 0, OPT_HURST},
+                                         {"dimension", required_argument, 0, OPT_DIMENSION},
+                                         {"sigma", required_argument, 0, OPT_SIGMA},
+                                         {"seed", required_argument, 0, OPT_SEED},
+                                         {"backend", required_argument, 0, OPT_BACKEND},
+                                         {"device", required_argument, 0, OPT_DEVICE},
+                                         {"output", required_argument, 0, 'o'},
+                                         {"quiet", no_argument, 0, 'q'},
+                                         {"help", no_argument, 0, 'h'},
+                                         {0, 0, 0, 0}};
     frt_terrain_desc desc;
     memset(&desc, 0, sizeof desc);
     bool have_hurst = false, have_dim = false, quiet = false;
@@ -88,8 +92,7 @@ int frt_cmd_generate(int argc, char **argv)
             break;
         case OPT_DIMENSION:
             if (!frt_parse_double(optarg, &dimension) || !(dimension > 2.0 && dimension < 3.0))
-                return frt_cli_fail(FRT_EXIT_USAGE, "--dimension must be a number with 2 < D < 3, got '%s'",
-                                    optarg);
+                return frt_cli_fail(FRT_EXIT_USAGE, "--dimension must be a number with 2 < D < 3, got '%s'", optarg);
             have_dim = true;
             break;
         case OPT_SIGMA:
@@ -177,8 +180,8 @@ int frt_cmd_generate(int argc, char **argv)
             fprintf(stderr, "%s: warning: %s; using the CPU path\n", frt_cli_command, frt_context_error(ctx));
             use_cpu = true;
         } else if (r != FRT_SUCCESS) {
-            code = frt_cli_fail(FRT_EXIT_DEVICE, "%s", frt_context_error(ctx)[0] ? frt_context_error(ctx)
-                                                                                  : frt_result_string(r));
+            code = frt_cli_fail(FRT_EXIT_DEVICE, "%s",
+                                frt_context_error(ctx)[0] ? frt_context_error(ctx) : frt_result_string(r));
             goto out;
         } else {
             meta.backend = "vulkan";

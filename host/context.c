@@ -95,7 +95,8 @@ static frt_result create_instance(frt_context *ctx, bool validation)
     VkInstanceCreateInfo ci = {VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     ci.pApplicationInfo = &app;
     VkDebugUtilsMessengerCreateInfoEXT mci = {VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-    mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mci.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
     mci.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                       VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
     mci.pfnUserCallback = on_validation;
@@ -113,8 +114,8 @@ static frt_result create_instance(frt_context *ctx, bool validation)
     if (vr != VK_SUCCESS)
         return frt_vk_check(ctx, vr, "vkCreateInstance");
     if (validation) {
-        PFN_vkCreateDebugUtilsMessengerEXT create = (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
-            ctx->instance, "vkCreateDebugUtilsMessengerEXT");
+        PFN_vkCreateDebugUtilsMessengerEXT create =
+            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT");
         if (!create)
             return frt_set_error(ctx, FRT_ERROR_UNSUPPORTED, "VK_EXT_debug_utils is not available");
         vr = create(ctx->instance, &mci, NULL, &ctx->messenger);
@@ -381,9 +382,18 @@ void frt_context_destroy(frt_context *ctx)
     free(ctx);
 }
 
-const frt_device_info *frt_context_device(const frt_context *ctx) { return ctx ? &ctx->info : NULL; }
-const char *frt_context_error(const frt_context *ctx) { return ctx ? ctx->error : ""; }
-uint32_t frt_context_validation_messages(const frt_context *ctx) { return ctx ? ctx->validation_messages : 0; }
+const frt_device_info *frt_context_device(const frt_context *ctx)
+{
+    return ctx ? &ctx->info : NULL;
+}
+const char *frt_context_error(const frt_context *ctx)
+{
+    return ctx ? ctx->error : "";
+}
+uint32_t frt_context_validation_messages(const frt_context *ctx)
+{
+    return ctx ? ctx->validation_messages : 0;
+}
 
 frt_result frt_enumerate_devices(frt_device_info *out, uint32_t *count)
 {
@@ -470,11 +480,9 @@ frt_result frt_buffer_create(frt_context *ctx, VkDeviceSize size, bool host_visi
     r = frt_vk_check(ctx, vkAllocateMemory(ctx->device, &mai, NULL, &out->memory), "vkAllocateMemory");
     if (r == FRT_SUCCESS)
         r = frt_vk_check(ctx, vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), "vkBindBufferMemory");
-    if (r == FRT_SUCCESS &&
-        (ctx->mem_props.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) &&
+    if (r == FRT_SUCCESS && (ctx->mem_props.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) &&
         (ctx->mem_props.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT))
-        r = frt_vk_check(ctx, vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped),
-                         "vkMapMemory");
+        r = frt_vk_check(ctx, vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped), "vkMapMemory");
     if (r != FRT_SUCCESS) {
         frt_buffer_destroy(ctx, out);
         return r;
@@ -502,8 +510,7 @@ frt_result frt_pipeline_create(frt_context *ctx, const uint32_t *spirv, size_t s
     smci.codeSize = spirv_bytes;
     smci.pCode = spirv;
     VkShaderModule module;
-    frt_result r =
-        frt_vk_check(ctx, vkCreateShaderModule(ctx->device, &smci, NULL, &module), "vkCreateShaderModule");
+    frt_result r = frt_vk_check(ctx, vkCreateShaderModule(ctx->device, &smci, NULL, &module), "vkCreateShaderModule");
     if (r != FRT_SUCCESS)
         return r;
     if (!*layout) {

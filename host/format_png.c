@@ -41,8 +41,8 @@ frt_result frt_write_png16(FILE *fp, const float *h, uint32_t width, uint32_t he
         goto done;
     }
     png_init_io(png, fp);
-    png_set_IHDR(png, info, width, height, 16, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, width, height, 16, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
     png_text text[4];
     memset(text, 0, sizeof text);
     char k0[] = "Software", k1[] = "fracterra:min", k2[] = "fracterra:max", k3[] = "fracterra:params";

@@ -33,15 +33,18 @@ static frt_result write_le_floats(FILE *fp, const float *h, size_t count)
     return FRT_SUCCESS;
 }
 
-frt_result frt_write_f32(FILE *fp, const float *h, size_t count) { return write_le_floats(fp, h, count); }
+frt_result frt_write_f32(FILE *fp, const float *h, size_t count)
+{
+    return write_le_floats(fp, h, count);
+}
 
 frt_result frt_write_npy(FILE *fp, const float *h, uint32_t width, uint32_t height)
 {
     /* NPY 1.0: magic, version, little-endian uint16 header length, then a Python dict literal padded with
      * spaces and ended by '\n' so that the data starts at a multiple of 64 bytes. */
     char dict[128];
-    int len = snprintf(dict, sizeof dict, "{'descr': '<f4', 'fortran_order': False, 'shape': (%u, %u), }", height,
-                       width);
+    int len =
+        snprintf(dict, sizeof dict, "{'descr': '<f4', 'fortran_order': False, 'shape': (%u, %u), }", height, width);
     size_t total = 10 + (size_t)len + 1;
     size_t padded = (total + 63) / 64 * 64;
     size_t header_len = padded - 10;

@@ -45,11 +45,11 @@ void frt_field_minmax(const float *h, size_t count, float *min, float *max)
 static size_t json_string(char *out, size_t cap, const char *s)
 {
     size_t n = 0;
-#define PUT(c)                                                                                                     \
-    do {                                                                                                           \
-        if (n + 1 < cap)                                                                                           \
-            out[n] = (c);                                                                                          \
-        ++n;                                                                                                       \
+#define PUT(c)                                                                                                         \
+    do {                                                                                                               \
+        if (n + 1 < cap)                                                                                               \
+            out[n] = (c);                                                                                              \
+        ++n;                                                                                                           \
     } while (0)
     PUT('"');
     for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; ++p) {

@@ -61,8 +61,8 @@ static frt_result ensure_buffers(frt_context *ctx, VkDeviceSize bytes)
     return r;
 }
 
-static void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
-                    VkPipelineStageFlags dst, VkAccessFlags dst_access)
+static void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
+                    VkAccessFlags dst_access)
 {
     VkMemoryBarrier mb = {VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     mb.srcAccessMask = src_access;
@@ -84,8 +84,8 @@ frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *o
     if (count == 0)
         return frt_set_error(ctx, FRT_ERROR_TOO_LARGE, "grid too large for this host");
     if (!out || out_count < count)
-        return frt_set_error(ctx, FRT_ERROR_BUFFER_TOO_SMALL, "output holds %zu floats, the grid needs %zu",
-                             out_count, count);
+        return frt_set_error(ctx, FRT_ERROR_BUFFER_TOO_SMALL, "output holds %zu floats, the grid needs %zu", out_count,
+                             count);
     const VkDeviceSize bytes = (VkDeviceSize)count * sizeof(float);
     if (bytes > ctx->info.max_allocation_bytes || bytes > ctx->info.device_local_heap_bytes)
         return frt_set_error(ctx, FRT_ERROR_TOO_LARGE,
@@ -141,8 +141,8 @@ frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *o
         barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                 VK_ACCESS_HOST_READ_BIT);
     } else {
-        barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_TRANSFER_READ_BIT);
         VkBufferCopy region = {0, 0, bytes};
         vkCmdCopyBuffer(cmd, ctx->grid.buffer, ctx->staging.buffer, 1, &region);
         barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
@@ -157,9 +157,8 @@ frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *o
         memset(info, 0, sizeof *info);
         info->dispatches = n + 1;
         uint64_t ts[2];
-        if (ctx->timestamps &&
-            vkGetQueryPoolResults(ctx->device, ctx->timestamps, 0, 2, sizeof ts, ts, sizeof ts[0],
-                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
+        if (ctx->timestamps && vkGetQueryPoolResults(ctx->device, ctx->timestamps, 0, 2, sizeof ts, ts, sizeof ts[0],
+                                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
             info->device_seconds = (double)(ts[1] - ts[0]) * (double)ctx->props.limits.timestampPeriod * 1e-9;
         info->total_seconds = frt_now_seconds() - t0;
     }

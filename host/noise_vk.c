@@ -41,8 +41,8 @@ frt_result frt_noise_vulkan(frt_context *ctx, const uint32_t *counters, const ui
     uint8_t *base = buf.mapped;
     memcpy(base, counters, count * 16);
     memcpy(base + count * 16, keys, count * 8);
-    struct noise_push pc = {buf.address, buf.address + count * 16, buf.address + count * 24,
-                            buf.address + count * 40, (uint32_t)count, 0};
+    struct noise_push pc = {
+        buf.address, buf.address + count * 16, buf.address + count * 24, buf.address + count * 40, (uint32_t)count, 0};
     VkCommandBuffer cmd;
     r = frt_cmd_begin(ctx, &cmd);
     if (r == FRT_SUCCESS) {
@@ -54,8 +54,8 @@ frt_result frt_noise_vulkan(frt_context *ctx, const uint32_t *counters, const ui
         VkMemoryBarrier mb = {VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
         mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0,
-                             NULL, 0, NULL);
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, NULL,
+                             0, NULL);
         r = frt_cmd_submit_wait(ctx, cmd);
     }
     if (r == FRT_SUCCESS) {

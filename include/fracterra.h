@@ -19,11 +19,11 @@ extern "C" {
 /* Version of the noise-stream contract (docs/ALGORITHM.md) that this build implements. */
 #define FRT_SPEC_VERSION 1
 
-#define FRT_DEFAULT_LEVELS 9u  /* 513 x 513, as in the 1988 report */
+#define FRT_DEFAULT_LEVELS 9u /* 513 x 513, as in the 1988 report */
 #define FRT_DEFAULT_HURST 0.8
 #define FRT_DEFAULT_SIGMA 1.0
 #define FRT_DEFAULT_SEED 1u
-#define FRT_MAX_LEVELS 15u     /* 32769^2 floats = 4 GiB; devices may allow less */
+#define FRT_MAX_LEVELS 15u /* 32769^2 floats = 4 GiB; devices may allow less */
 
 /* Results. 0 is success; the others are grouped by kind (tens digit). */
 typedef enum frt_result {
@@ -33,10 +33,10 @@ typedef enum frt_result {
     FRT_ERROR_UNSUPPORTED = 20,      /* the device lacks a required feature */
     FRT_ERROR_TOO_LARGE = 21,        /* the grid exceeds what the device or host can hold */
     FRT_ERROR_OUT_OF_MEMORY = 30,
-    FRT_ERROR_NO_DEVICE = 40,        /* no Vulkan driver or no matching device */
-    FRT_ERROR_VULKAN = 41,           /* a Vulkan call failed */
+    FRT_ERROR_NO_DEVICE = 40, /* no Vulkan driver or no matching device */
+    FRT_ERROR_VULKAN = 41,    /* a Vulkan call failed */
     FRT_ERROR_DEVICE_LOST = 42,
-    FRT_ERROR_IO = 50                /* reading or writing a file failed */
+    FRT_ERROR_IO = 50 /* reading or writing a file failed */
 } frt_result;
 
 /* A short static English description of `r`; never NULL. */
@@ -89,7 +89,7 @@ frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out
 typedef struct frt_context frt_context;
 
 typedef enum frt_validation {
-    FRT_VALIDATION_DEFAULT = 0,      /* off, unless the environment sets FRT_VALIDATION=1 */
+    FRT_VALIDATION_DEFAULT = 0, /* off, unless the environment sets FRT_VALIDATION=1 */
     FRT_VALIDATION_OFF = 1,
     FRT_VALIDATION_IF_AVAILABLE = 2, /* enable VK_LAYER_KHRONOS_validation when installed */
     FRT_VALIDATION_REQUIRED = 3      /* fail with FRT_ERROR_UNSUPPORTED when it is not installed */

@@ -7,7 +7,6 @@ PACKAGES=(
   libvulkan-dev                   # Vulkan loader and headers
   mesa-vulkan-drivers             # lavapipe: Vulkan on the CPU, so no GPU is needed
   glslang-tools                   # glslangValidator: GLSL -> SPIR-V at build time
-  spirv-tools                     # spirv-val for the shader check in the tests
   libpng-dev                      # PNG output
   vulkan-validationlayers         # VK_LAYER_KHRONOS_validation for the tests
   vulkan-tools                    # vulkaninfo, for troubleshooting

@@ -12,12 +12,12 @@ typedef struct residual_stats {
 /* For level l of a field of n levels: residuals (height - parents' mean) / amplitude for diamond points and for
  * interior square points (4 neighbours), using the contract's float formulas for the mean. */
 static inline void level_residuals(const float *h, uint32_t n, uint32_t level, float amp_d, float amp_s,
-                            residual_stats *diamond, residual_stats *square)
+                                   residual_stats *diamond, residual_stats *square)
 {
     const uint32_t side = (1u << n) + 1, full = side - 1, s = 1u << (n - level);
     double ds = 0, ds2 = 0, ss = 0, ss2 = 0;
     size_t dn = 0, sn = 0;
-#define H(x, y) h[(size_t)(y) * side + (x)]
+#define H(x, y) h[(size_t)(y)*side + (x)]
     for (uint32_t y = s; y < full; y += 2 * s)
         for (uint32_t x = s; x < full; x += 2 * s) {
             float mean = ((H(x - s, y - s) + H(x + s, y - s)) + (H(x - s, y + s) + H(x + s, y + s))) * 0.25f;
@@ -56,8 +56,8 @@ static inline void check_level_statistics(const char *what, const float *h, cons
             if (r->n < 1000)
                 continue;
             double var_tol = 5.0 * sqrt(2.0 / (double)(r->n - 1)), mean_tol = 5.0 / sqrt((double)r->n);
-            CHECK(fabs(r->var - 1.0) <= var_tol, "%s level %u %s: variance ratio %.5f, allowed 1 +- %.5f (n=%zu)",
-                  what, level, names[k], r->var, var_tol, r->n);
+            CHECK(fabs(r->var - 1.0) <= var_tol, "%s level %u %s: variance ratio %.5f, allowed 1 +- %.5f (n=%zu)", what,
+                  level, names[k], r->var, var_tol, r->n);
             CHECK(fabs(r->mean) <= mean_tol, "%s level %u %s: mean %.5f, allowed +- %.5f", what, level, names[k],
                   r->mean, mean_tol);
         }

@@ -43,8 +43,7 @@ static void test_png(const float *h, uint32_t w, uint32_t ht, const frt_field_me
     png_init_io(png, f);
     png_read_info(png, info);
     CHECK(png_get_image_width(png, info) == w && png_get_image_height(png, info) == ht, "PNG size");
-    CHECK(png_get_bit_depth(png, info) == 16 && png_get_color_type(png, info) == PNG_COLOR_TYPE_GRAY,
-          "16-bit grey");
+    CHECK(png_get_bit_depth(png, info) == 16 && png_get_color_type(png, info) == PNG_COLOR_TYPE_GRAY, "16-bit grey");
     png_textp text;
     int ntext = 0;
     png_get_text(png, info, &text, &ntext);

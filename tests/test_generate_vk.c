@@ -32,8 +32,8 @@ static double compare(frt_context *ctx, vk_case c, bool stats)
     size_t identical = 0;
     for (size_t i = 0; i < count; ++i)
         identical += memcmp(&gpu[i], &cpu[i], 4) == 0;
-    CHECK(rel <= 1e-5, "levels %u H %.2f sigma %g seed %llu: max |vk - cpu| = %.3g |sigma|", c.levels, c.hurst,
-          c.sigma, (unsigned long long)c.seed, rel);
+    CHECK(rel <= 1e-5, "levels %u H %.2f sigma %g seed %llu: max |vk - cpu| = %.3g |sigma|", c.levels, c.hurst, c.sigma,
+          (unsigned long long)c.seed, rel);
     printf("levels %2u H %.2f sigma %-8g seed %-20llu max|vk-cpu|/|sigma| = %.3g, bit-identical %.2f%%\n", c.levels,
            c.hurst, c.sigma, (unsigned long long)c.seed, rel, 100.0 * identical / count);
     if (stats)
@@ -170,9 +170,9 @@ int main(void)
     if (!ctx)
         return CHECK_SKIP;
     const vk_case cases[] = {
-        {1, 0.8, 1.0, 1},       {2, 0.5, 1.0, 9},        {5, 0.8, 1.0, 1},   {6, 0.3, -2.0, 77},
-        {8, 0.9, 1e-3, 123456}, {9, 0.8, 1.0, 1},        {10, 0.3, 1.0, 11}, {10, 0.5, 250.0, 0},
-        {10, 0.8, -1.0, 0xdeadbeefcafef00dull},
+        {1, 0.8, 1.0, 1},   {2, 0.5, 1.0, 9},       {5, 0.8, 1.0, 1},
+        {6, 0.3, -2.0, 77}, {8, 0.9, 1e-3, 123456}, {9, 0.8, 1.0, 1},
+        {10, 0.3, 1.0, 11}, {10, 0.5, 250.0, 0},    {10, 0.8, -1.0, 0xdeadbeefcafef00dull},
     };
     double worst = 0;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)

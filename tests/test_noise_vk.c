@@ -18,8 +18,8 @@ int main(void)
         return CHECK_SKIP;
 
     /* Known answers (Random123 kat_vectors, philox4x32 10) through the shader. */
-    const uint32_t ctr[12] = {0, 0, 0, 0, 0xffffffff, 0xffffffff, 0xffffffff, 0xffffffff,
-                              0x243f6a88, 0x85a308d3, 0x13198a2e, 0x03707344};
+    const uint32_t ctr[12] = {0,          0,          0,          0,          0xffffffff, 0xffffffff,
+                              0xffffffff, 0xffffffff, 0x243f6a88, 0x85a308d3, 0x13198a2e, 0x03707344};
     const uint32_t key[6] = {0, 0, 0xffffffff, 0xffffffff, 0xa4093822, 0x299f31d0};
     const uint32_t want[12] = {0x6627e8d5, 0xe169c58d, 0xbc57ac4c, 0x9b00dbd8, 0x408f276d, 0x41c83b0e,
                                0xa20bc7c6, 0x6d5451fd, 0xd16cfe09, 0x94fdcceb, 0x5001e420, 0x24126ea1};
@@ -35,7 +35,7 @@ int main(void)
     for (size_t i = 0; i < nr; ++i) {
         uint64_t a = splitmix(&state), b = splitmix(&state), e = splitmix(&state);
         c[4 * i] = (uint32_t)a, c[4 * i + 1] = (uint32_t)(a >> 32), c[4 * i + 2] = (uint32_t)b,
-                  c[4 * i + 3] = (uint32_t)(b >> 32);
+              c[4 * i + 3] = (uint32_t)(b >> 32);
         k[2 * i] = (uint32_t)e, k[2 * i + 1] = (uint32_t)(e >> 32);
     }
     CHECK(frt_noise_vulkan(ctx, c, k, nr, w, NULL) == FRT_SUCCESS, "%s", frt_context_error(ctx));

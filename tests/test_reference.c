@@ -76,8 +76,8 @@ static void test_contract_points(void)
             float top = ((h[t - s] + h[t + s]) + h[(size_t)s * side + t]) * frt_one_third();
             wrong += h[t] != top + amp * frt_noise(seed, level, t / s, 0);
             /* left (x = 0): E, N, S */
-            float left = ((h[(size_t)t * side + s] + h[(size_t)(t - s) * side]) + h[(size_t)(t + s) * side]) *
-                         frt_one_third();
+            float left =
+                ((h[(size_t)t * side + s] + h[(size_t)(t - s) * side]) + h[(size_t)(t + s) * side]) * frt_one_third();
             wrong += h[(size_t)t * side] != left + amp * frt_noise(seed, level, 0, t / s);
             /* bottom (y = M-1): W, E, N */
             size_t b = (size_t)full * side;
@@ -91,8 +91,7 @@ static void test_contract_points(void)
             checked += 4;
         }
     }
-    CHECK(wrong == 0 && checked == 4 * 31, "%zu of %zu border points are not the 3-point mean + noise", wrong,
-          checked);
+    CHECK(wrong == 0 && checked == 4 * 31, "%zu of %zu border points are not the 3-point mean + noise", wrong, checked);
     free(h);
 }
 
