@@ -34,7 +34,7 @@ frt_result frt_atomic_open(frt_atomic_file *af, const char *path, char *err, siz
         frt_atomic_abort(af);
         return FRT_ERROR_IO;
     }
-    fchmod(fd, 0644 & ~(mode_t)0); /* mkstemp makes 0600; heightfields are not secrets */
+    fchmod(fd, 0644); /* mkstemp makes 0600; heightfields are not secrets */
     af->fp = fdopen(fd, "wb");
     if (!af->fp) {
         close(fd);

@@ -125,14 +125,18 @@ static frt_result create_instance(frt_context *ctx, bool validation)
     return FRT_SUCCESS;
 }
 
+/* Fills q with up to 32 queue families of pd and returns how many. */
+static uint32_t queue_families(VkPhysicalDevice pd, VkQueueFamilyProperties q[32])
+{
+    uint32_t n = 32;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q);
+    return n;
+}
+
 static bool find_compute_queue(VkPhysicalDevice pd, uint32_t *family)
 {
-    uint32_t n = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, NULL);
     VkQueueFamilyProperties q[32];
-    if (n > 32)
-        n = 32;
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q);
+    uint32_t n = queue_families(pd, q);
     for (uint32_t i = 0; i < n; ++i)
         if (q[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
             *family = i;
@@ -281,12 +285,8 @@ static frt_result finish_setup(frt_context *ctx)
     frt_result r = frt_vk_check(ctx, vkCreateCommandPool(ctx->device, &pci, NULL, &ctx->pool), "vkCreateCommandPool");
     if (r != FRT_SUCCESS)
         return r;
-    uint32_t n = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &n, NULL);
     VkQueueFamilyProperties q[32];
-    if (n > 32)
-        n = 32;
-    vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &n, q);
+    uint32_t n = queue_families(ctx->physical, q);
     if (ctx->queue_family < n && q[ctx->queue_family].timestampValidBits > 0) {
         VkQueryPoolCreateInfo qp = {VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         qp.queryType = VK_QUERY_TYPE_TIMESTAMP;

@@ -62,8 +62,7 @@ static void test_exact(frt_context *ctx)
     for (size_t i = 0; i < 1025 * 1025; ++i)
         same += b[i] == c[i];
     CHECK(same < 1025 * 1025 / 1000, "another seed gives another field (%zu equal)", same);
-    /* Border points: the 3-point mean (the CPU test checks the formula; here, that the device agrees there too
-     * at the first level where all four borders have midpoints). */
+    /* (Border points: test_reference checks the 3-point formula exactly; compare() holds the device to it.) */
     CHECK(frt_generate(ctx, &ds, a, 129 * 128, NULL) == FRT_ERROR_BUFFER_TOO_SMALL, "short output rejected");
     free(a), free(b), free(c);
 }
@@ -87,7 +86,7 @@ static void test_large(frt_context *ctx)
      * (resolution independence on one backend is exact), which was just compared with the CPU. */
     frt_terrain_desc d14 = make((vk_case){14, 0.75, 1.0, 5});
     size_t c14 = frt_heightfield_size(&d14);
-    if ((uint64_t)c14 * 4 <= dev->max_allocation_bytes && (uint64_t)c14 * 4 <= dev->device_local_heap_bytes / 2 * 3) {
+    if ((uint64_t)c14 * 4 <= dev->max_allocation_bytes && (uint64_t)c14 * 4 <= dev->device_local_heap_bytes) {
         float *f13 = check_alloc(count * 4), *f14 = check_alloc(c14 * 4);
         CHECK(frt_generate(ctx, &d, f13, count, NULL) == FRT_SUCCESS, "%s", frt_context_error(ctx));
         frt_result r14 = frt_generate(ctx, &d14, f14, c14, NULL);
