@@ -1,4 +1,4 @@
-/* cli.c — the `fracterra` command: generate, devices, bench. Exit codes are listed in usage(). */
+/* cli.c — the `fracterra` command: generate, render, devices, bench. Exit codes are listed in usage(). */
 #include "cli.h"
 
 #include <errno.h>
@@ -76,6 +76,58 @@ bool frt_parse_backend(const char *s, frt_backend *out)
     return true;
 }
 
+bool frt_parse_spacing(const char *s, double *dx, double *dy)
+{
+    char buf[128];
+    if (!s || strlen(s) >= sizeof buf)
+        return false;
+    strcpy(buf, s);
+    char *comma = strchr(buf, ',');
+    if (comma)
+        *comma = '\0';
+    if (!frt_parse_double(buf, dx) || !(*dx > 0.0))
+        return false;
+    *dy = *dx;
+    if (comma && (!frt_parse_double(comma + 1, dy) || !(*dy > 0.0)))
+        return false;
+    return true;
+}
+
+frt_file_format frt_cli_output_format(const char *path, unsigned allowed)
+{
+    frt_file_format f = frt_file_format_from_path(path);
+    if (f != FRT_FILE_DEFAULT && (allowed >> f & 1u))
+        return f;
+    char list[128] = "";
+    for (int i = 1; i <= FRT_FILE_PLY; ++i)
+        if (allowed >> i & 1u) {
+            strcat(list, list[0] ? ", ." : ".");
+            strcat(list, frt_file_format_name((frt_file_format)i));
+        }
+    const char *dot = strrchr(path, '.');
+    if (dot && strchr(dot, '/'))
+        dot = NULL;
+    if (f != FRT_FILE_DEFAULT)
+        frt_cli_fail(FRT_EXIT_USAGE, "'%s': a .%s file cannot be written here; use %s", path, frt_file_format_name(f),
+                     list);
+    else
+        frt_cli_fail(FRT_EXIT_USAGE, "cannot tell the format of '%s' (%s%s%s): use %s", path,
+                     dot ? "unknown extension '" : "no extension", dot ? dot : "", dot ? "'" : "", list);
+    return FRT_FILE_DEFAULT;
+}
+
+bool frt_cli_probe_writable(const char *path, int *exit_code)
+{
+    frt_atomic_file af;
+    char err[1200];
+    if (frt_atomic_open(&af, path, err, sizeof err) != FRT_SUCCESS) {
+        *exit_code = frt_cli_fail(FRT_EXIT_IO, "%s", err);
+        return false;
+    }
+    frt_atomic_abort(&af);
+    return true;
+}
+
 static const char *type_name(VkPhysicalDeviceType t)
 {
     switch (t) {
@@ -94,11 +146,14 @@ static void usage(FILE *f)
             "\n"
             "Usage:\n"
             "  fracterra generate [options] -o FILE   generate a heightfield (see: fracterra generate --help)\n"
+            "  fracterra render IN -o OUT [options]   hillshade, colour relief or 1988-style profile plot\n"
             "  fracterra devices                      list Vulkan devices\n"
             "  fracterra bench [options]              measure points/second per backend\n"
             "  fracterra --version | --help\n"
             "\n"
-            "Exit codes: 0 success, 2 bad arguments or input, 3 Vulkan or device failure, 4 file I/O failure.\n",
+            "Formats by extension: .png .pgm (16-bit grey), .f32 (+ .json sidecar), .npy, .obj .ply (meshes).\n"
+            "Exit codes: 0 success, 2 bad arguments or input, 3 Vulkan or device failure, 4 file I/O failure.\n"
+            "Manual: man fracterra (docs/fracterra.1).\n",
             FRT_VERSION_STRING);
 }
 
@@ -151,9 +206,12 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "generate") == 0)
         return frt_cmd_generate(argc - 1, argv + 1);
+    if (strcmp(cmd, "render") == 0)
+        return frt_cmd_render(argc - 1, argv + 1);
     if (strcmp(cmd, "devices") == 0)
         return cmd_devices(argc - 1, argv + 1);
     if (strcmp(cmd, "bench") == 0)
         return frt_cmd_bench(argc - 1, argv + 1);
-    return frt_cli_fail(FRT_EXIT_USAGE, "unknown command '%s' (commands: generate, devices, bench; see --help)", cmd);
+    return frt_cli_fail(FRT_EXIT_USAGE, "unknown command '%s' (commands: generate, render, devices, bench; see --help)",
+                        cmd);
 }

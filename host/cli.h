@@ -19,7 +19,24 @@ bool frt_parse_u64(const char *s, uint64_t *out); /* decimal, or hex with 0x */
 bool frt_parse_double(const char *s, double *out);
 bool frt_parse_backend(const char *s, frt_backend *out);
 
+bool frt_parse_spacing(const char *s, double *dx, double *dy); /* "D" or "DX,DY", both > 0 */
+/* The format of an output path, or a usage failure naming the known extensions; `allowed` is a bit mask of
+ * (1u << frt_file_format). Returns FRT_FILE_DEFAULT after printing the message. */
+frt_file_format frt_cli_output_format(const char *path, unsigned allowed);
+/* Fails early when `path` cannot be written (creates and removes a temporary file beside it). */
+bool frt_cli_probe_writable(const char *path, int *exit_code);
+
+/* cli_progress.c: a progress line for steps longer than about a second, on a terminal only. */
+void frt_progress_init(bool quiet);
+void frt_progress_begin(const char *label, uint64_t total); /* total 0: elapsed time only */
+void frt_progress_set(uint64_t done);
+void frt_progress_end(void);
+
+/* cli_frames.c: the growth frames of `field` (levels n, side 2^n + 1) after each level, on the final scale. */
+int frt_write_frames(const char *dir, const char *gif, const float *field, uint32_t levels, const frt_write_desc *wd);
+
 int frt_cmd_generate(int argc, char **argv);
+int frt_cmd_render(int argc, char **argv);
 int frt_cmd_bench(int argc, char **argv);
 
 #endif

@@ -1,19 +1,24 @@
-/* cli_generate.c — `fracterra generate`: parse, validate, generate on the chosen backend, write atomically. */
+/* cli_generate.c — `fracterra generate`: parse, validate, generate on the chosen backend, write the outputs
+ * (each atomically), a preview and growth frames. */
 #include "cli.h"
 
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static void generate_help(void)
 {
-    printf("Usage: fracterra generate [options] -o FILE\n"
+    printf("Usage: fracterra generate [options] -o FILE [-o FILE ...]\n"
            "\n"
            "Generates a (2^N+1) x (2^N+1) heightfield by FFC random midpoint displacement (docs/ALGORITHM.md).\n"
            "\n"
+           "Terrain:\n"
            "  --levels N          refinement levels, grid side 2^N+1 (1..%u; default %u -> 513 x 513)\n"
            "  --hurst H           Hurst exponent, 0 < H < 1 (default %.1f); larger is smoother\n"
            "  --dimension D       fractal dimension, 2 < D < 3, H = 3 - D (not with --hurst)\n"
@@ -21,15 +26,31 @@ static void generate_help(void)
            "  --seed U64          noise key, decimal or 0x hex (default 1)\n"
            "  --backend B         auto | vulkan | cpu (default auto: Vulkan if a device exists, else CPU)\n"
            "  --device D          Vulkan device by index or name substring (see: fracterra devices)\n"
-           "  -o, --output FILE   output; the extension picks the format:\n"
-           "                        .png  16-bit greyscale, min..max -> 0..65535, parameters in text chunks\n"
-           "                        .npy  float32 for numpy.load\n"
-           "                        .f32  raw little-endian float32, row-major, with FILE.json sidecar\n"
-           "  -q, --quiet         no summary line on stderr\n"
+           "\n"
+           "Output (-o may be given several times; the extension picks the format):\n"
+           "  -o, --output FILE   .png  greyscale PNG, min..max -> 0..65535, parameters in text chunks\n"
+           "                      .pgm  Netpbm P5 greyscale, min..max -> 0..65535, parameters in comments\n"
+           "                      .npy  float32 for numpy.load\n"
+           "                      .f32  raw little-endian float32, row-major, with FILE.json sidecar\n"
+           "                      .obj  Wavefront OBJ triangle mesh with normals (z up, north = +y)\n"
+           "                      .ply  binary PLY triangle mesh with normals\n"
+           "  --bits 8|16         sample depth of .png and .pgm (default 16)\n"
+           "  --mesh-stride K     meshes keep every K-th row and column, and the last (default 1)\n"
+           "  --spacing D[,DY]    ground distance between columns (and rows), in height units (default 1);\n"
+           "                      recorded in the metadata, used by meshes and by the preview's shading\n"
+           "  --z-scale Z         meshes: vertex z = height * Z (default 1); recorded\n"
+           "  --preview FILE.png  also write a shaded-relief picture (Horn hillshade, light from the north-west)\n"
+           "  --preview-style S   hillshade | color (hypsometric colours over the hillshade; default hillshade)\n"
+           "  --frames DIR        write the field after each level, DIR/frame-00.png ... frame-NN.png: 16-bit\n"
+           "                      PNGs upsampled (nearest neighbour) to the final size on the final field's scale\n"
+           "  --gif FILE.gif      the same frames as one animated GIF (at most 1025 pixels a side: larger\n"
+           "                      fields are subsampled)\n"
+           "  -q, --quiet         no progress and no summary line on stderr\n"
            "  -h, --help          this text\n"
            "\n"
-           "The file appears only when complete: it is written to a temporary file and renamed, so a failure\n"
-           "never leaves a partial file or replaces an existing one.\n",
+           "Every file appears only when complete: it is written to a temporary file and renamed, so a failure\n"
+           "never leaves a partial file or replaces an existing one. Unwritable outputs are reported before any\n"
+           "work is done.\n",
            FRT_MAX_LEVELS, FRT_DEFAULT_LEVELS, FRT_DEFAULT_HURST);
 }
 
@@ -54,10 +75,32 @@ static frt_context *open_vulkan(frt_backend backend, const char *device, bool *u
     return NULL;
 }
 
+#define MAX_OUTPUTS 8
+#define FMT_BIT(f) (1u << (f))
+#define ALL_HEIGHTFIELDS                                                                                               \
+    (FMT_BIT(FRT_FILE_PNG) | FMT_BIT(FRT_FILE_PGM) | FMT_BIT(FRT_FILE_F32) | FMT_BIT(FRT_FILE_NPY) |                   \
+     FMT_BIT(FRT_FILE_OBJ) | FMT_BIT(FRT_FILE_PLY))
+
 int frt_cmd_generate(int argc, char **argv)
 {
     frt_cli_command = "fracterra generate";
-    enum { OPT_LEVELS = 256, OPT_HURST, OPT_DIMENSION, OPT_SIGMA, OPT_SEED, OPT_BACKEND, OPT_DEVICE };
+    enum {
+        OPT_LEVELS = 256,
+        OPT_HURST,
+        OPT_DIMENSION,
+        OPT_SIGMA,
+        OPT_SEED,
+        OPT_BACKEND,
+        OPT_DEVICE,
+        OPT_BITS,
+        OPT_STRIDE,
+        OPT_SPACING,
+        OPT_ZSCALE,
+        OPT_PREVIEW,
+        OPT_PREVIEW_STYLE,
+        OPT_FRAMES,
+        OPT_GIF
+    };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
                                          {"hurst", required_argument, 0, OPT_HURST},
                                          {"dimension", required_argument, 0, OPT_DIMENSION},
@@ -65,16 +108,29 @@ int frt_cmd_generate(int argc, char **argv)
                                          {"seed", required_argument, 0, OPT_SEED},
                                          {"backend", required_argument, 0, OPT_BACKEND},
                                          {"device", required_argument, 0, OPT_DEVICE},
+                                         {"bits", required_argument, 0, OPT_BITS},
+                                         {"mesh-stride", required_argument, 0, OPT_STRIDE},
+                                         {"spacing", required_argument, 0, OPT_SPACING},
+                                         {"z-scale", required_argument, 0, OPT_ZSCALE},
+                                         {"preview", required_argument, 0, OPT_PREVIEW},
+                                         {"preview-style", required_argument, 0, OPT_PREVIEW_STYLE},
+                                         {"frames", required_argument, 0, OPT_FRAMES},
+                                         {"gif", required_argument, 0, OPT_GIF},
                                          {"output", required_argument, 0, 'o'},
                                          {"quiet", no_argument, 0, 'q'},
                                          {"help", no_argument, 0, 'h'},
                                          {0, 0, 0, 0}};
     frt_terrain_desc desc;
     memset(&desc, 0, sizeof desc);
-    bool have_hurst = false, have_dim = false, quiet = false;
+    frt_write_desc wd;
+    memset(&wd, 0, sizeof wd);
+    bool have_hurst = false, have_dim = false, quiet = false, have_bits = false, have_stride = false,
+         preview_color = false;
     double dimension = 0.0;
     frt_backend backend = FRT_BACKEND_DEFAULT;
-    const char *device = NULL, *output = NULL;
+    const char *device = NULL, *outputs[MAX_OUTPUTS], *preview = NULL, *frames = NULL, *gif = NULL;
+    frt_file_format formats[MAX_OUTPUTS];
+    unsigned n_outputs = 0;
     opterr = 0;
     optind = 1;
     int c;
@@ -110,7 +166,38 @@ int frt_cmd_generate(int argc, char **argv)
                 return frt_cli_fail(FRT_EXIT_USAGE, "--backend must be auto, vulkan or cpu, got '%s'", optarg);
             break;
         case OPT_DEVICE: device = optarg; break;
-        case 'o': output = optarg; break;
+        case OPT_BITS:
+            if (!frt_parse_u32(optarg, &wd.bits) || (wd.bits != 8 && wd.bits != 16))
+                return frt_cli_fail(FRT_EXIT_USAGE, "--bits must be 8 or 16, got '%s'", optarg);
+            have_bits = true;
+            break;
+        case OPT_STRIDE:
+            if (!frt_parse_u32(optarg, &wd.mesh_stride) || wd.mesh_stride < 1)
+                return frt_cli_fail(FRT_EXIT_USAGE, "--mesh-stride must be a positive integer, got '%s'", optarg);
+            have_stride = true;
+            break;
+        case OPT_SPACING:
+            if (!frt_parse_spacing(optarg, &wd.spacing_x, &wd.spacing_y))
+                return frt_cli_fail(FRT_EXIT_USAGE, "--spacing must be D or DX,DY with positive numbers, got '%s'",
+                                    optarg);
+            break;
+        case OPT_ZSCALE:
+            if (!frt_parse_double(optarg, &wd.z_scale) || wd.z_scale == 0.0)
+                return frt_cli_fail(FRT_EXIT_USAGE, "--z-scale must be a non-zero number, got '%s'", optarg);
+            break;
+        case OPT_PREVIEW: preview = optarg; break;
+        case OPT_PREVIEW_STYLE:
+            if (strcmp(optarg, "hillshade") != 0 && strcmp(optarg, "color") != 0)
+                return frt_cli_fail(FRT_EXIT_USAGE, "--preview-style must be hillshade or color, got '%s'", optarg);
+            preview_color = strcmp(optarg, "color") == 0;
+            break;
+        case OPT_FRAMES: frames = optarg; break;
+        case OPT_GIF: gif = optarg; break;
+        case 'o':
+            if (n_outputs == MAX_OUTPUTS)
+                return frt_cli_fail(FRT_EXIT_USAGE, "at most %d outputs (-o)", MAX_OUTPUTS);
+            outputs[n_outputs++] = optarg;
+            break;
         case 'q': quiet = true; break;
         case 'h': generate_help(); return FRT_EXIT_OK;
         case ':': return frt_cli_fail(FRT_EXIT_USAGE, "option '%s' needs a value", argv[optind - 1]);
@@ -123,13 +210,29 @@ int frt_cmd_generate(int argc, char **argv)
         return frt_cli_fail(FRT_EXIT_USAGE, "give --hurst or --dimension, not both (H = 3 - D)");
     if (have_dim)
         desc.hurst = 3.0 - dimension;
-    if (!output)
-        return frt_cli_fail(FRT_EXIT_USAGE, "missing -o FILE (.png, .npy or .f32)");
-    frt_format format = frt_format_from_path(output);
-    if (format == FRT_FORMAT_NONE) {
-        const char *dot = strrchr(output, '.');
-        return frt_cli_fail(FRT_EXIT_USAGE, "cannot tell the format of '%s'%s%s%s: use .png, .npy or .f32", output,
-                            dot ? " (unknown extension '" : " (no extension", dot ? dot : "", dot ? "')" : ")");
+    if (n_outputs == 0 && !preview && !frames && !gif)
+        return frt_cli_fail(FRT_EXIT_USAGE, "missing -o FILE (.png, .pgm, .npy, .f32, .obj or .ply)");
+    bool quantised = false, mesh = false;
+    for (unsigned i = 0; i < n_outputs; ++i) {
+        formats[i] = frt_cli_output_format(outputs[i], ALL_HEIGHTFIELDS);
+        if (formats[i] == FRT_FILE_DEFAULT)
+            return FRT_EXIT_USAGE;
+        quantised |= formats[i] == FRT_FILE_PNG || formats[i] == FRT_FILE_PGM;
+        mesh |= formats[i] == FRT_FILE_OBJ || formats[i] == FRT_FILE_PLY;
+        for (unsigned j = 0; j < i; ++j)
+            if (strcmp(outputs[i], outputs[j]) == 0)
+                return frt_cli_fail(FRT_EXIT_USAGE, "'%s' is given twice as an output", outputs[i]);
+    }
+    if (have_bits && !quantised)
+        return frt_cli_fail(FRT_EXIT_USAGE, "--bits applies to .png and .pgm outputs, and there is none");
+    if (have_stride && !mesh)
+        return frt_cli_fail(FRT_EXIT_USAGE, "--mesh-stride applies to .obj and .ply outputs, and there is none");
+    if (preview && frt_cli_output_format(preview, FMT_BIT(FRT_FILE_PNG)) == FRT_FILE_DEFAULT)
+        return FRT_EXIT_USAGE;
+    if (gif) {
+        const char *dot = strrchr(gif, '.');
+        if (!dot || strcasecmp(dot, ".gif") != 0)
+            return frt_cli_fail(FRT_EXIT_USAGE, "--gif needs a file name ending in .gif, got '%s'", gif);
     }
     if (backend == FRT_BACKEND_CPU && device)
         return frt_cli_fail(FRT_EXIT_USAGE, "--device needs the vulkan (or auto) backend");
@@ -139,29 +242,35 @@ int frt_cmd_generate(int argc, char **argv)
     const uint32_t side = frt_grid_side(resolved.levels);
     const size_t count = frt_heightfield_size(&resolved);
 
-    /* Open the outputs first: an unwritable target fails before any work. */
-    char err[1200];
-    frt_atomic_file main_file, sidecar;
-    memset(&sidecar, 0, sizeof sidecar);
-    if (frt_atomic_open(&main_file, output, err, sizeof err) != FRT_SUCCESS)
-        return frt_cli_fail(FRT_EXIT_IO, "%s", err);
-    char *sidecar_path = format == FRT_FORMAT_F32 ? frt_sidecar_path(output) : NULL;
-    if (sidecar_path && frt_atomic_open(&sidecar, sidecar_path, err, sizeof err) != FRT_SUCCESS) {
-        frt_atomic_abort(&main_file);
-        free(sidecar_path);
-        return frt_cli_fail(FRT_EXIT_IO, "%s", err);
-    }
-    free(sidecar_path);
-
+    /* Unwritable targets fail before any work. */
     int code = FRT_EXIT_OK;
+    for (unsigned i = 0; i < n_outputs; ++i)
+        if (!frt_cli_probe_writable(outputs[i], &code))
+            return code;
+    if ((preview && !frt_cli_probe_writable(preview, &code)) || (gif && !frt_cli_probe_writable(gif, &code)))
+        return code;
+    bool made_frames_dir = false; /* removed again if the run fails and it is still empty */
+    if (frames) {
+        made_frames_dir = mkdir(frames, 0755) == 0;
+        if (!made_frames_dir && errno != EEXIST)
+            return frt_cli_fail(FRT_EXIT_IO, "cannot create the frames directory '%s': %s", frames, strerror(errno));
+        char probe[4096];
+        snprintf(probe, sizeof probe, "%s/frame-00.png", frames);
+        if (!frt_cli_probe_writable(probe, &code)) {
+            if (made_frames_dir)
+                rmdir(frames);
+            return code;
+        }
+    }
+
+    frt_progress_init(quiet);
     float *field = malloc(count * sizeof *field);
     frt_context *ctx = NULL;
     bool use_cpu = backend == FRT_BACKEND_CPU;
     frt_run_info info;
     memset(&info, 0, sizeof info);
-    frt_field_meta meta;
-    memset(&meta, 0, sizeof meta);
-    meta.desc = resolved;
+    const char *backend_name = "cpu", *device_name = "CPU reference";
+    char label[400];
     if (!field) {
         code = frt_cli_fail(FRT_EXIT_DEVICE, "cannot allocate %.1f MiB for a %u x %u grid on this host",
                             (double)count * 4.0 / 1048576.0, side, side);
@@ -173,9 +282,10 @@ int frt_cmd_generate(int argc, char **argv)
             goto out;
     }
     if (ctx) {
-        if (!quiet && isatty(2))
-            fprintf(stderr, "%s: %u x %u on %s ...\r", frt_cli_command, side, side, frt_context_device(ctx)->name);
+        snprintf(label, sizeof label, "generating %u x %u on %s", side, side, frt_context_device(ctx)->name);
+        frt_progress_begin(label, 0);
         frt_result r = frt_generate(ctx, &resolved, field, count, &info);
+        frt_progress_end();
         if (r == FRT_ERROR_TOO_LARGE && backend == FRT_BACKEND_DEFAULT && !device) {
             fprintf(stderr, "%s: warning: %s; using the CPU path\n", frt_cli_command, frt_context_error(ctx));
             use_cpu = true;
@@ -184,51 +294,77 @@ int frt_cmd_generate(int argc, char **argv)
                                 frt_context_error(ctx)[0] ? frt_context_error(ctx) : frt_result_string(r));
             goto out;
         } else {
-            meta.backend = "vulkan";
-            meta.device = frt_context_device(ctx)->name;
+            backend_name = "vulkan";
+            device_name = frt_context_device(ctx)->name;
         }
     }
     if (use_cpu) {
-        if (!quiet && isatty(2))
-            fprintf(stderr, "%s: %u x %u on the CPU ...\r", frt_cli_command, side, side);
+        snprintf(label, sizeof label, "generating %u x %u on the CPU", side, side);
+        frt_progress_begin(label, 0);
         frt_result r = frt_generate_cpu(&resolved, field, count, &info);
+        frt_progress_end();
         if (r != FRT_SUCCESS) {
             code = frt_cli_fail(FRT_EXIT_USAGE, "%s", frt_result_string(r));
             goto out;
         }
-        meta.backend = "cpu";
-        meta.device = "CPU reference";
     }
-    frt_field_minmax(field, count, &meta.min, &meta.max);
+    wd.terrain = &resolved;
+    wd.backend = backend_name;
+    wd.device = device_name;
 
-    frt_result wr = FRT_SUCCESS;
-    err[0] = '\0';
-    if (format == FRT_FORMAT_PNG)
-        wr = frt_write_png16(main_file.fp, field, side, side, &meta, err, sizeof err);
-    else if (format == FRT_FORMAT_NPY)
-        wr = frt_write_npy(main_file.fp, field, side, side);
-    else {
-        wr = frt_write_f32(main_file.fp, field, count);
-        char *json = frt_meta_json(&meta, side, side);
-        if (wr == FRT_SUCCESS && (!json || fputs(json, sidecar.fp) == EOF))
-            wr = FRT_ERROR_IO;
-        free(json);
+    char err[1200];
+    for (unsigned i = 0; i < n_outputs; ++i) {
+        snprintf(label, sizeof label, "writing %s", outputs[i]);
+        frt_progress_begin(label, 0);
+        frt_result wr = frt_write_heightfield(outputs[i], field, side, side, &wd, err, sizeof err);
+        frt_progress_end();
+        if (wr != FRT_SUCCESS) {
+            code = frt_cli_fail(wr == FRT_ERROR_IO ? FRT_EXIT_IO : FRT_EXIT_USAGE, "%s", err);
+            goto out;
+        }
     }
-    if (wr == FRT_SUCCESS)
-        wr = frt_atomic_commit(&main_file, err, sizeof err);
-    if (wr == FRT_SUCCESS && sidecar.fp)
-        wr = frt_atomic_commit(&sidecar, err, sizeof err);
-    if (wr != FRT_SUCCESS) {
-        code = frt_cli_fail(FRT_EXIT_IO, "%s", err[0] ? err : "writing the output failed");
-        goto out;
+    if (preview) {
+        frt_hillshade_desc hd;
+        memset(&hd, 0, sizeof hd);
+        hd.spacing_x = wd.spacing_x;
+        hd.spacing_y = wd.spacing_y;
+        hd.color = preview_color;
+        size_t bytes = frt_hillshade_size(side, side, &hd);
+        uint8_t *pic = bytes ? malloc(bytes) : NULL;
+        frt_result pr = pic ? frt_hillshade(field, side, side, &hd, pic, bytes) : FRT_ERROR_OUT_OF_MEMORY;
+        if (pr == FRT_SUCCESS)
+            pr = frt_write_picture(preview, pic, side, side, preview_color ? 3 : 1, err, sizeof err);
+        else
+            snprintf(err, sizeof err, "preview: %s", frt_result_string(pr));
+        free(pic);
+        if (pr != FRT_SUCCESS) {
+            code = frt_cli_fail(pr == FRT_ERROR_IO ? FRT_EXIT_IO : FRT_EXIT_USAGE, "%s", err);
+            goto out;
+        }
     }
-    if (!quiet)
-        fprintf(stderr, "%s: %u x %u (levels %u, H %.3g, sigma %.6g, seed %llu) on %s [%s] in %.3f s -> %s\n",
-                frt_cli_command, side, side, resolved.levels, resolved.hurst, resolved.sigma,
-                (unsigned long long)resolved.seed, meta.device, meta.backend, info.total_seconds, output);
+    if (frames || gif) {
+        code = frt_write_frames(frames, gif, field, resolved.levels, &wd);
+        if (code != FRT_EXIT_OK)
+            goto out;
+    }
+    if (!quiet) {
+        fprintf(stderr, "%s: %u x %u (levels %u, H %.3g, sigma %.6g, seed %llu) on %s [%s] in %.3f s", frt_cli_command,
+                side, side, resolved.levels, resolved.hurst, resolved.sigma, (unsigned long long)resolved.seed,
+                device_name, backend_name, info.total_seconds);
+        const char *sep = " ->";
+        for (unsigned i = 0; i < n_outputs; ++i, sep = ",")
+            fprintf(stderr, "%s %s", sep, outputs[i]);
+        if (preview)
+            fprintf(stderr, "%s %s", sep, preview), sep = ",";
+        if (frames)
+            fprintf(stderr, "%s %s/ (%u frames)", sep, frames, resolved.levels + 1), sep = ",";
+        if (gif)
+            fprintf(stderr, "%s %s", sep, gif);
+        fputc('\n', stderr);
+    }
 out:
-    frt_atomic_abort(&main_file); /* no-ops after a commit */
-    frt_atomic_abort(&sidecar);
+    if (code != FRT_EXIT_OK && made_frames_dir)
+        rmdir(frames); /* only succeeds when empty: frames already written are complete files and stay */
     frt_context_destroy(ctx);
     free(field);
     return code;

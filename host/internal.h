@@ -99,24 +99,200 @@ frt_result frt_atomic_open(frt_atomic_file *af, const char *path, char *err, siz
 frt_result frt_atomic_commit(frt_atomic_file *af, char *err, size_t err_size);
 void frt_atomic_abort(frt_atomic_file *af);
 
-/* ---- formats.c and format_*.c: heightfield files chosen by extension ---- */
-typedef enum frt_format { FRT_FORMAT_NONE = 0, FRT_FORMAT_F32, FRT_FORMAT_NPY, FRT_FORMAT_PNG } frt_format;
-/* What a file records besides the heights. */
-typedef struct frt_field_meta {
-    frt_terrain_desc desc; /* resolved */
-    const char *backend;   /* "vulkan" or "cpu" */
-    const char *device;    /* device name */
-    float min, max;
-} frt_field_meta;
-frt_format frt_format_from_path(const char *path);
-/* The sidecar path for .f32 output: FILE.json (malloc'd). */
-char *frt_sidecar_path(const char *path);
-/* The parameters as one JSON object (malloc'd): the sidecar's content and the PNG text chunk. */
-char *frt_meta_json(const frt_field_meta *m, uint32_t width, uint32_t height);
-void frt_field_minmax(const float *h, size_t count, float *min, float *max);
-frt_result frt_write_f32(FILE *fp, const float *h, size_t count);
-frt_result frt_write_npy(FILE *fp, const float *h, uint32_t width, uint32_t height);
-frt_result frt_write_png16(FILE *fp, const float *h, uint32_t width, uint32_t height, const frt_field_meta *m,
-                           char *err, size_t err_size);
+/* ---- files.c, formats.c, format_*.c: readers and writers behind frt_read/write_heightfield ---- */
+
+/* Files larger than this many points are refused before anything is allocated (16 GiB of floats). */
+#define FRT_FILE_MAX_POINTS (UINT64_C(1) << 32)
+
+/* A field to write, with every default of frt_write_desc resolved and checked (frt_field_out_init). */
+typedef struct frt_field_out {
+    const char *name; /* the target path, for messages */
+    const float *h;
+    uint32_t width, height;
+    frt_file_format format;
+    uint32_t bits;                /* 8 or 16 */
+    uint32_t mesh_stride;         /* >= 1 */
+    double spacing_x, spacing_y;  /* finite, > 0 */
+    double z_scale;               /* finite, != 0 */
+    bool has_terrain;             /* `terrain` is valid (resolved) */
+    frt_terrain_desc terrain;     /* resolved */
+    const char *backend, *device; /* NULL: not recorded */
+    float min, max;               /* of the finite heights; 0, 0 when there are none */
+} frt_field_out;
+
+/* Checks `desc` (NULL = defaults) and fills `f`; `format` FRT_FILE_DEFAULT takes it from `name`. */
+frt_result frt_field_out_init(frt_field_out *f, const char *name, const float *h, uint32_t width, uint32_t height,
+                              const frt_write_desc *desc, char *err, size_t err_size);
+/* Writes the field (not the .f32 sidecar) in f->format to `fp`, then flushes it; a failed write (a full disk) is
+ * FRT_ERROR_IO with strerror in the message. Formats numbers in the C locale whatever the caller's. */
+frt_result frt_write_stream(FILE *fp, const frt_field_out *f, char *err, size_t err_size);
+/* The reader behind frt_read_heightfield[_info], on a stream positioned anywhere (it seeks to measure and to
+ * rewind, so fmemopen streams work: tests/fuzz_read.c). `name` is used in messages. `sidecar_json` is the
+ * sidecar's text, required for FRT_FILE_F32 and ignored otherwise. `out` NULL: header only (meshes are scanned
+ * whole, since their size is the vertex grid's). Otherwise writes at most out_count floats and fills min/max. */
+frt_result frt_read_stream(FILE *fp, frt_file_format format, const char *sidecar_json, const char *name,
+                           frt_field_info *info, float *out, size_t out_count, char *err, size_t err_size);
+
+/* formats.c: shared by the format files. */
+/* Writes "'name'" followed by the formatted text to err (may be NULL); returns r. */
+frt_result frt_fail(char *err, size_t err_size, frt_result r, const char *name, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+/* Shortest decimal text that reads back as the same float / double ("0.8", "-2", "1e-05"); buf >= 32. */
+const char *frt_float_text(char buf[static 32], float v);
+const char *frt_double_text(char buf[static 32], double v);
+/* Sample q (0..maxq) of height v: round((v - min) / (max - min) * maxq); a flat field, NaN -> 0. */
+uint32_t frt_quantise(float v, float min, float max, uint32_t maxq);
+/* Inverse: min + q / maxq * (max - min) when has_range, else q. */
+float frt_dequantise(uint32_t q, uint32_t maxq, bool has_range, double min, double max);
+/* Metadata JSON (json-c), malloc'd. FRT_JSON_SIDECAR: pretty, with the raw data layout keys (.f32 sidecar);
+ * FRT_JSON_LINE: one line, for a PNG chunk or a comment line. NULL when out of memory. */
+enum { FRT_JSON_SIDECAR = 1, FRT_JSON_LINE = 2 };
+char *frt_meta_json(const frt_field_out *f, int style);
+/* What frt_meta_parse found besides the metadata it stores into `info`. */
+typedef struct frt_meta_extra {
+    bool has_size;
+    uint32_t width, height;
+    uint32_t mesh_stride; /* 0 when absent */
+    char dtype[16], byte_order[16];
+} frt_meta_extra;
+/* Parses fracterra metadata JSON into info (has_terrain, terrain, spacing, z_scale, backend, device); parameters
+ * that are missing or out of range are left out rather than failing. FRT_ERROR_INVALID_ARGUMENT when `text` is
+ * not a JSON object or width/height are present but not whole numbers in 1..2^32-1. */
+frt_result frt_meta_parse(const char *text, size_t len, frt_field_info *info, frt_meta_extra *extra, const char *name,
+                          const char *what, char *err, size_t err_size);
+
+/* A buffered reader over a FILE*, for the parsers: cheap byte-at-a-time access and the size of the stream, so that
+ * headers claiming more data than the file holds are refused before anything is allocated. */
+typedef struct frt_rd {
+    FILE *fp;
+    const char *name;
+    char *err;
+    size_t err_size;
+    uint64_t size;   /* bytes in the stream */
+    uint64_t offset; /* bytes consumed */
+    uint8_t *buf;
+    size_t pos, len;
+    int read_errno;   /* nonzero after a failed read */
+    bool line_at_end; /* the last frt_rd_line ended at the end of the stream, without "\n" */
+} frt_rd;
+/* Measures the stream and rewinds it. FRT_ERROR_IO when it cannot be measured or buffered. */
+frt_result frt_rd_open(frt_rd *rd, FILE *fp, const char *name, char *err, size_t err_size);
+void frt_rd_close(frt_rd *rd);
+/* Next byte, or -1 at the end of the stream (or on a read error: see read_errno). */
+int frt_rd_getc(frt_rd *rd);
+/* Reads exactly n bytes; false when the stream ends first. */
+bool frt_rd_read(frt_rd *rd, void *dst, size_t n);
+static inline uint64_t frt_rd_left(const frt_rd *rd)
+{
+    return rd->size > rd->offset ? rd->size - rd->offset : 0;
+}
+/* One line without its "\n" (and "\r"), NUL-terminated. Returns its length, -1 at the end of the stream, -2 when
+ * the line does not fit in cap - 1 bytes (the rest of the line is skipped). */
+long frt_rd_line(frt_rd *rd, char *line, size_t cap);
+/* FRT_ERROR_IO: "'name' is truncated (what)", or the read error when there was one. */
+frt_result frt_rd_truncated(frt_rd *rd, const char *what);
+/* Reads n bytes that must equal `magic`: FRT_ERROR_INVALID_ARGUMENT "'name' is not WHAT" when they differ,
+ * truncated when the stream ends first. */
+frt_result frt_rd_magic(frt_rd *rd, const void *magic, size_t n, const char *what);
+/* Checks the size a header claims (info->width, height): both >= 1, at most FRT_FILE_MAX_POINTS points, and with
+ * `out`, room for them (FRT_ERROR_BUFFER_TOO_SMALL). */
+frt_result frt_rd_check_grid(frt_rd *rd, const frt_field_info *info, const float *out, size_t out_count);
+
+/* Mesh geometry shared by format_obj.c and format_ply.c (docs: frt_write_desc). Thinned grid: rows and columns
+ * 0, K, 2K, ... and always the last one. */
+uint32_t frt_mesh_side(uint32_t n, uint32_t stride);
+/* Position and unit normal of thinned vertex (col i, row j): x = col * spacing_x, y = (height - 1 - row) *
+ * spacing_y, z = h * z_scale; normal from central differences on the thinned grid (one-sided at the edges). */
+void frt_mesh_vertex(const frt_field_out *f, uint32_t i, uint32_t j, float pos[3], float normal[3]);
+/* The header comment lines of a mesh (without the comment marker), one per element of lines[]. */
+int frt_mesh_comments(const frt_field_out *f, char lines[2][256]);
+
+/* Recognises the regular grid of a mesh's vertices as they stream in (x increasing along a row, rows from north
+ * to south), storing z into out (NULL: none) and checking the rows. */
+typedef struct frt_grid_rd {
+    float *out;
+    size_t out_count;
+    uint64_t n;     /* vertices seen */
+    uint32_t width; /* 0 until the first row has ended */
+    double *xs;     /* x of each column of the first row */
+    size_t xs_cap;
+    double y_row, y0, y1, tol;
+    bool buffer_small;
+} frt_grid_rd;
+/* Takes one vertex; FRT_ERROR_INVALID_ARGUMENT ("not a regular grid mesh") when it breaks the grid. */
+frt_result frt_grid_add(frt_grid_rd *g, frt_rd *rd, double x, double y, double z);
+/* Ends the scan: sets info->width/height/spacing, divides the stored z by info->z_scale. Frees the scan. */
+frt_result frt_grid_finish(frt_grid_rd *g, frt_rd *rd, frt_field_info *info);
+void frt_grid_free(frt_grid_rd *g);
+
+/* The format files: writers take the resolved field; readers fill info (out NULL: header only). */
+frt_result frt_png_write(FILE *fp, const frt_field_out *f, char *err, size_t err_size);
+frt_result frt_png_write_picture(FILE *fp, const char *name, const uint8_t *pixels, uint32_t width, uint32_t height,
+                                 uint32_t channels, char *err, size_t err_size);
+frt_result frt_png_read(frt_rd *rd, frt_field_info *info, float *out, size_t out_count);
+frt_result frt_pgm_write(FILE *fp, const frt_field_out *f, char *err, size_t err_size);
+frt_result frt_pgm_read(frt_rd *rd, frt_field_info *info, float *out, size_t out_count);
+frt_result frt_f32_write(FILE *fp, const frt_field_out *f, char *err, size_t err_size);
+frt_result frt_f32_read(frt_rd *rd, const char *sidecar_json, frt_field_info *info, float *out, size_t out_count);
+frt_result frt_npy_write(FILE *fp, const frt_field_out *f, char *err, size_t err_size);
+frt_result frt_npy_read(frt_rd *rd, frt_field_info *info, float *out, size_t out_count);
+frt_result frt_obj_write(FILE *fp, const frt_field_out *f, char *err, size_t err_size);
+frt_result frt_obj_read(frt_rd *rd, frt_field_info *info, float *out, size_t out_count);
+frt_result frt_ply_write(FILE *fp, const frt_field_out *f, char *err, size_t err_size);
+frt_result frt_ply_read(frt_rd *rd, frt_field_info *info, float *out, size_t out_count);
+
+/* A writer over a FILE* that remembers the first failure's errno and skips the rest. */
+typedef struct frt_wr {
+    FILE *fp;
+    int errnum;
+} frt_wr;
+void frt_wr_bytes(frt_wr *w, const void *p, size_t n);
+void frt_wr_printf(frt_wr *w, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+/* Flushes; FRT_ERROR_IO naming the file and strerror of the first failure. */
+frt_result frt_wr_finish(frt_wr *w, const char *name, char *err, size_t err_size);
+/* Little-endian stores whatever the host's order. */
+void frt_put_le32(uint8_t *p, uint32_t v);
+uint32_t frt_get_le32(const uint8_t *p);
+
+/* ---- hillshade.c, profiles.c: pictures ---- */
+/* The resolved settings and page geometry of a profile plot, shared by frt_profiles_size, frt_profiles and
+ * frt_write_profiles (so the three agree), and by the tests and the CLI (the automatic dilation it used). */
+typedef struct frt_profiles_layout {
+    frt_profiles_desc desc; /* every default made explicit; dilation: the automatic value if 0 */
+    uint32_t rows;          /* profiles drawn: y = 0, every, 2 every, ... <= height - 1 */
+    uint32_t back_y;        /* y of the back (last drawn) profile */
+    double zmin, zmax;      /* of z = dilation * h over the finite heights; 0, 0 when none */
+    double zbase;           /* floor of the base: zmin - base */
+    double margin;          /* device units (pixels or points) around the projected extent */
+    double scale;           /* device units per u or v unit */
+    double vmax;            /* top of the extent, in v */
+    uint32_t picture_width, picture_height;
+    uint32_t field_width, field_height;
+} frt_profiles_layout;
+/* Checks `desc` (NULL = defaults) against the field and fills `l`; FRT_ERROR_INVALID_ARGUMENT with a message in
+ * err (may be NULL) when a setting is out of range or the picture would exceed 16384 a side. */
+frt_result frt_profiles_layout_compute(const float *h, uint32_t width, uint32_t height, const frt_profiles_desc *desc,
+                                       frt_profiles_layout *l, char *err, size_t err_size);
+/* Device position (pixels or points, y down) of the point at column x, y rows from the front, height hv:
+ * X = margin + scale * u, Y = margin + scale * (vmax - v). */
+void frt_profiles_point(const frt_profiles_layout *l, double x, double y, double hv, double *px, double *py);
+
+/* ---- format_gif.c: animated GIF of growth frames ---- */
+/* Streams frames (8-bit palette indices, width x height) into an animated GIF that loops forever, through giflib,
+ * to a temporary file renamed by frt_gif_commit; frt_gif_abort (or a failed commit) leaves no file. */
+typedef struct frt_gif_writer frt_gif_writer;
+frt_result frt_gif_open(frt_gif_writer **out, const char *path, uint32_t width, uint32_t height,
+                        const uint8_t palette_rgb[768], char *err, size_t err_size);
+frt_result frt_gif_add_frame(frt_gif_writer *g, const uint8_t *indices, uint32_t delay_centiseconds, char *err,
+                             size_t err_size);
+frt_result frt_gif_commit(frt_gif_writer *g, char *err, size_t err_size); /* frees `g` in every case */
+void frt_gif_abort(frt_gif_writer *g);                                    /* frees `g`; NULL is fine */
 
 #endif

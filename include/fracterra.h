@@ -148,6 +148,117 @@ uint32_t frt_context_validation_messages(const frt_context *ctx);
 frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *out, size_t out_count,
                         frt_run_info *info);
 
+/* ---- Heightfield files (files.c, format_*.c) ---- */
+
+typedef enum frt_file_format {
+    FRT_FILE_DEFAULT = 0, /* chosen by the path's extension */
+    FRT_FILE_PNG = 1,     /* greyscale PNG, 16-bit (or 8); min/max and parameters in text chunks */
+    FRT_FILE_PGM = 2,     /* Netpbm P5, 16-bit (or 8), big-endian; min/max and parameters in comments */
+    FRT_FILE_F32 = 3,     /* raw little-endian float32, row-major, with a FILE.json sidecar */
+    FRT_FILE_NPY = 4,     /* NumPy .npy, '<f4', C order */
+    FRT_FILE_OBJ = 5,     /* Wavefront OBJ triangle mesh with vertex normals */
+    FRT_FILE_PLY = 6      /* binary little-endian PLY triangle mesh with vertex normals */
+} frt_file_format;
+
+/* The format named by `path`'s extension (case-insensitive), or FRT_FILE_DEFAULT when it names none. */
+frt_file_format frt_file_format_from_path(const char *path);
+/* Lower-case extension without the dot ("png", ...); "" for FRT_FILE_DEFAULT or an unknown value. */
+const char *frt_file_format_name(frt_file_format format);
+
+/* How to write a heightfield. Zero-initialise: every zero field means its default. */
+typedef struct frt_write_desc {
+    frt_file_format format;          /* 0 -> from the extension */
+    uint32_t bits;                   /* PNG and PGM sample depth: 0 -> 16, or 8 */
+    uint32_t mesh_stride;            /* OBJ/PLY: keep every K-th row and column (and always the last); 0 -> 1 */
+    double spacing_x, spacing_y;     /* ground distance between columns / rows, in height units; 0 -> 1 */
+    double z_scale;                  /* OBJ/PLY: vertex z = h * z_scale; 0 -> 1 */
+    double range_min, range_max;     /* PNG/PGM: heights mapped to 0..2^bits-1 (clamped); equal -> the field's
+                                        own min and max. For a series of pictures on one scale */
+    const frt_terrain_desc *terrain; /* optional: the parameters that made the field, recorded as metadata */
+    const char *backend;             /* optional: "vulkan" or "cpu", recorded */
+    const char *device;              /* optional: device name, recorded */
+} frt_write_desc;
+
+/* Writes a width x height heightfield h[y*width + x] to `path`. The file (and the .f32 sidecar) is written to a
+ * temporary file beside it and renamed on success, so a failure never leaves a partial file and never replaces
+ * an existing one. Quantised formats map [min, max] of the field to the full sample range. On failure a
+ * one-line message naming the file and the problem is written to `err` (may be NULL). */
+frt_result frt_write_heightfield(const char *path, const float *h, uint32_t width, uint32_t height,
+                                 const frt_write_desc *desc, char *err, size_t err_size);
+
+/* What a heightfield file holds. */
+typedef struct frt_field_info {
+    frt_file_format format;
+    uint32_t width, height;
+    uint32_t bits;               /* bits per stored sample: 8 or 16 (PNG, PGM), 32 or 64 (float) */
+    bool has_terrain;            /* the file records the parameters that made it (fracterra wrote it) */
+    frt_terrain_desc terrain;    /* valid when has_terrain */
+    bool has_range;              /* quantised samples were mapped back to the recorded [min, max] */
+    double spacing_x, spacing_y; /* as recorded, else 1 */
+    double z_scale;              /* as recorded, else 1 */
+    float min, max;              /* of the heights as read (set by frt_read_heightfield only) */
+    char backend[16];            /* as recorded, else "" */
+    char device[256];            /* as recorded, else "" */
+} frt_field_info;
+
+/* Reads only the header of `path` (and its sidecar): format, size and metadata; min/max are left 0. */
+frt_result frt_read_heightfield_info(const char *path, frt_field_info *info, char *err, size_t err_size);
+
+/* Reads the heights into `out` (at least width*height floats, from frt_read_heightfield_info); never writes
+ * outside it. Quantised samples map back to the recorded [min, max] (within one quantum) when the file has
+ * them, else to the raw sample values. Meshes read back when their vertices form the regular grid that
+ * fracterra writes (z / z_scale). `info` may be NULL. Truncated, malformed or inconsistent files give
+ * FRT_ERROR_IO or FRT_ERROR_INVALID_ARGUMENT with a message naming the problem. */
+frt_result frt_read_heightfield(const char *path, float *out, size_t out_count, frt_field_info *info, char *err,
+                                size_t err_size);
+
+/* Writes an 8-bit picture (channels 1 = grey, 3 = RGB, row-major) as PNG, atomically like the above. */
+frt_result frt_write_picture(const char *path, const uint8_t *pixels, uint32_t width, uint32_t height,
+                             uint32_t channels, char *err, size_t err_size);
+
+/* ---- Pictures (hillshade.c, profiles.c) ---- */
+
+typedef struct frt_hillshade_desc {
+    double azimuth;              /* light from, degrees clockwise from north (up); 0 -> 315; 360 for north */
+    double altitude;             /* degrees above the horizon; 0 -> 45 */
+    double z_factor;             /* vertical exaggeration; 0 -> automatic (RMS slope of 45 degrees) */
+    double spacing_x, spacing_y; /* distance between columns / rows in height units; 0 -> 1 */
+    bool color;                  /* blend with a hypsometric colour ramp: RGB output */
+} frt_hillshade_desc;
+
+/* Bytes frt_hillshade writes: width * height * (color ? 3 : 1); 0 when that overflows or a side is 0. */
+size_t frt_hillshade_size(uint32_t width, uint32_t height, const frt_hillshade_desc *desc);
+
+/* Shaded relief by Horn's method, as gdaldem hillshade -compute_edges: 1 + 254 * max(0, cos(incidence)), edges
+ * from replicated border samples; 0 where a height is not finite. `desc` may be NULL. */
+frt_result frt_hillshade(const float *h, uint32_t width, uint32_t height, const frt_hillshade_desc *desc, uint8_t *out,
+                         size_t out_size);
+
+/* The 1988 report's orthographic profile plot. Point (x, y, z) with x the column, y counted from the front
+ * (last) row and z = dilation * h projects to u = 1.5x + 0.25y, v = tilt * (0.25y + 1.5z) (v up). */
+typedef struct frt_profiles_desc {
+    uint32_t every;    /* draw every K-th row, front to back, with hidden-line removal; 0 -> 8 */
+    double dilation;   /* vertical dilation (grid-spacing units per height unit; negative inverts); 0 -> automatic:
+                          relief spans 1/8 of the plot's width */
+    double tilt;       /* 0 -> 1 */
+    double base;       /* thickness of a solid base ("stratum") below the lowest point, in z units; 0 -> none */
+    uint32_t width;    /* picture width in pixels (PNG) or points (SVG, PDF); 0 -> 1200 */
+    double line_width; /* in pixels or points; 0 -> 1 */
+} frt_profiles_desc;
+
+/* Picture size for the plot of a width x height field; the height follows the projected extent. */
+frt_result frt_profiles_size(const float *h, uint32_t width, uint32_t height, const frt_profiles_desc *desc,
+                             uint32_t *picture_width, uint32_t *picture_height);
+
+/* Draws the plot into a caller-allocated 8-bit grey picture (white paper, black lines) of the size above. */
+frt_result frt_profiles(const float *h, uint32_t width, uint32_t height, const frt_profiles_desc *desc, uint8_t *out,
+                        uint32_t picture_width, uint32_t picture_height);
+
+/* Writes the plot to `path`: .png (anti-aliased), .svg or .pdf (vectors) by extension, through cairo;
+ * atomically like frt_write_heightfield. */
+frt_result frt_write_profiles(const char *path, const float *h, uint32_t width, uint32_t height,
+                              const frt_profiles_desc *desc, char *err, size_t err_size);
+
 #ifdef __cplusplus
 }
 #endif

@@ -22,6 +22,24 @@ for preset in release asan; do
     failed=$((failed + bad))
   fi
 done
+echo "== fuzz: every file reader under libFuzzer + ASan/UBSan, ${FRT_FUZZ_SECONDS:-30} s from tests/fuzz_corpus"
+if command -v clang >/dev/null; then
+  corpus=$(mktemp -d)
+  cp tests/fuzz_corpus/* "$corpus"/
+  if cmake --preset fuzz >/dev/null && cmake --build --preset fuzz >/dev/null &&
+    build/fuzz/tests/fuzz_read -max_total_time="${FRT_FUZZ_SECONDS:-30}" -timeout=10 -rss_limit_mb=2048 \
+      -print_final_stats=1 "$corpus" 2>"$log"; then
+    grep -E '^stat::number_of_executed_units|^Done' "$log" | tr '\n' ' '
+    echo
+    passed=$((passed + 1))
+  else
+    tail -40 "$log"
+    failed=$((failed + 1))
+  fi
+  rm -rf "$corpus"
+else
+  echo "clang not installed: fuzzing skipped (the deterministic robustness pass in test_formats still ran)"
+fi
 echo "== consumer project: find_package(fracterra) from an install"
 if scripts/check-install.sh; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
 echo "all: $passed passed, $failed failed"
