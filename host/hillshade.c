@@ -35,8 +35,7 @@ static void extended_row(const float *row, uint32_t width, double *ext)
 }
 
 /* Row y of the extended field, y in [-1, height]: rows -1 and `height` extrapolate the two nearest real rows. */
-static void extended_field_row(const float *h, uint32_t width, uint32_t height, int64_t y, double *ext,
-                               double *scratch)
+static void extended_field_row(const float *h, uint32_t width, uint32_t height, int64_t y, double *ext, double *scratch)
 {
     if (y >= 0 && y < (int64_t)height) {
         extended_row(h + (size_t)y * width, width, ext);
@@ -56,8 +55,8 @@ static void extended_field_row(const float *h, uint32_t width, uint32_t height, 
  * dzdy = dz/d(row) (row 0 is north, so dzdy > 0 means the ground falls towards the north), in height units per
  * ground unit. `ok[x]` is 0 where the centre height is not finite (gdaldem's nodata: the output is 0). A
  * non-finite neighbour is replaced by the centre value, as gdaldem -compute_edges does for nodata neighbours. */
-static void horn_row(const double *n, const double *c, const double *s, uint32_t width, double inv8sx,
-                     double inv8sy, double *dzdx, double *dzdy, uint8_t *ok)
+static void horn_row(const double *n, const double *c, const double *s, uint32_t width, double inv8sx, double inv8sy,
+                     double *dzdx, double *dzdy, uint8_t *ok)
 {
     for (uint32_t x = 0; x < width; ++x) {
         /* a b c / d e f / g h i; column x of the field is index x + 1 of the extended rows */
@@ -118,7 +117,10 @@ static bool horn_walk_init(horn_walk *w, const float *h, uint32_t width, uint32_
     return true;
 }
 
-static void horn_walk_free(horn_walk *w) { free(w->block); }
+static void horn_walk_free(horn_walk *w)
+{
+    free(w->block);
+}
 
 /* Computes the gradients of output row y into w->dzdx, w->dzdy, w->ok. Rows are visited in order 0, 1, ...; the
  * three extended rows rotate so that each field row is widened once. */
@@ -172,8 +174,8 @@ static void ramp_lut(float lut[RAMP_LUT][3])
     }
 }
 
-frt_result frt_hillshade(const float *h, uint32_t width, uint32_t height, const frt_hillshade_desc *desc,
-                         uint8_t *out, size_t out_size)
+frt_result frt_hillshade(const float *h, uint32_t width, uint32_t height, const frt_hillshade_desc *desc, uint8_t *out,
+                         size_t out_size)
 {
     frt_hillshade_desc d;
     if (desc)

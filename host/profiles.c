@@ -23,7 +23,10 @@
 
 /* ---- layout ---- */
 
-static bool is_pos_finite(double v) { return isfinite(v) && v > 0.0; }
+static bool is_pos_finite(double v)
+{
+    return isfinite(v) && v > 0.0;
+}
 
 frt_result frt_profiles_layout_compute(const float *h, uint32_t width, uint32_t height, const frt_profiles_desc *desc,
                                        frt_profiles_layout *l, char *err, size_t err_size)
@@ -374,32 +377,31 @@ static void stroke_runs(cairo_t *cr, const runs *r)
     cairo_stroke(cr);
 }
 
-/* Device points (x, up) of the field row `row` (or, `column` true, of the right column from y = y0 to y1) into
- * px/pu; returns the number of points written, stopping before the first non-finite height at or after *from
- * and setting *from past the run (so that a caller loops over the finite pieces). */
+/* Device points (x, up) of the field row `row_y` (or, `column` true, of the right column from y = y0 to y1) into
+ * px/pu, starting at index *from and skipping leading non-finite heights. Returns the number of points written: up
+ * to the next non-finite height, past which *from is left (so that a caller loops over the finite pieces), or with
+ * `bridge` all the finite points to the end, the gaps closed as the base's faces close them. */
 static size_t next_piece(const frt_profiles_layout *l, const float *h, bool column, uint32_t row_y, uint32_t y0,
-                         uint32_t y1, uint32_t *from, double *px, double *pu)
+                         uint32_t y1, bool bridge, uint32_t *from, double *px, double *pu)
 {
     const uint32_t W = l->field_width, H = l->field_height;
     uint32_t end = column ? y1 - y0 + 1 : W;
     uint32_t i = *from;
-    for (; i < end; ++i) { /* skip non-finite */
-        uint32_t y = column ? y0 + i : row_y;
-        uint32_t x = column ? W - 1 : i;
-        if (isfinite(h[(size_t)(H - 1 - y) * W + x]))
-            break;
-    }
     size_t m = 0;
-    for (; i < end; ++i, ++m) {
+    for (; i < end; ++i) {
         uint32_t y = column ? y0 + i : row_y;
         uint32_t x = column ? W - 1 : i;
         float hv = h[(size_t)(H - 1 - y) * W + x];
-        if (!isfinite(hv))
+        if (!isfinite(hv)) {
+            if (m == 0 || bridge)
+                continue;
             break;
+        }
         double X, Y;
         frt_profiles_point(l, x, y, hv, &X, &Y);
         px[m] = X;
         pu[m] = -Y;
+        ++m;
     }
     *from = i;
     return m;
@@ -495,6 +497,7 @@ static frt_result draw_plot(cairo_t *cr, const frt_profiles_layout *l, const flo
 {
     const uint32_t W = l->field_width;
     const uint32_t K = l->desc.every;
+    const bool base = l->desc.base > 0.0;
     ink k = {raster};
     frt_result r = FRT_SUCCESS;
     horizon hz = {0};
@@ -514,7 +517,7 @@ static frt_result draw_plot(cairo_t *cr, const frt_profiles_layout *l, const flo
     cairo_set_operator(cr, CAIRO_OPERATOR_OVER);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
-    if (l->desc.base > 0.0)
+    if (base)
         base_faces(cr, l, h, &k);
     cairo_set_line_width(cr, l->desc.line_width);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
@@ -523,12 +526,13 @@ static frt_result draw_plot(cairo_t *cr, const frt_profiles_layout *l, const flo
 
     /* Front to back. Each profile shows where it rises above everything drawn before it; then it and the right
      * column up to the next profile (the terrain's right edge, which hides the ends of the profiles behind it)
-     * raise the horizon. */
+     * raise the horizon. With a base, the front profile and the right column raise it with their gaps (non-finite
+     * heights) bridged, as the faces' filled tops bridge them: nothing may show through a face. */
     for (uint32_t p = 0; p < l->rows; ++p) {
         uint32_t y = p * K;
         rs.n = rs.nruns = 0;
         for (uint32_t from = 0; from < W;) {
-            size_t m = next_piece(l, h, false, y, 0, 0, &from, px, pu);
+            size_t m = next_piece(l, h, false, y, 0, 0, false, &from, px, pu);
             if (m >= 2)
                 trace_piece(&hz, px, pu, m, &rs);
         }
@@ -538,18 +542,18 @@ static frt_result draw_plot(cairo_t *cr, const frt_profiles_layout *l, const flo
         }
         stroke_runs(cr, &rs);
         for (uint32_t from = 0; from < W;) {
-            size_t m = next_piece(l, h, false, y, 0, 0, &from, px, pu);
+            size_t m = next_piece(l, h, false, y, 0, 0, base && p == 0, &from, px, pu);
             if (m >= 2)
                 raise_piece(&hz, px, pu, m);
         }
         if (p + 1 < l->rows)
             for (uint32_t from = 0; from <= K;) {
-                size_t m = next_piece(l, h, true, 0, y, y + K, &from, px, pu);
+                size_t m = next_piece(l, h, true, 0, y, y + K, base, &from, px, pu);
                 if (m >= 2)
                     raise_piece(&hz, px, pu, m);
             }
     }
-    if (l->desc.base > 0.0)
+    if (base)
         base_outline(cr, l, h);
 done:
     free(px);
@@ -610,8 +614,8 @@ frt_result frt_profiles_size(const float *h, uint32_t width, uint32_t height, co
     return FRT_SUCCESS;
 }
 
-frt_result frt_profiles(const float *h, uint32_t width, uint32_t height, const frt_profiles_desc *desc,
-                        uint8_t *out, uint32_t picture_width, uint32_t picture_height)
+frt_result frt_profiles(const float *h, uint32_t width, uint32_t height, const frt_profiles_desc *desc, uint8_t *out,
+                        uint32_t picture_width, uint32_t picture_height)
 {
     frt_profiles_layout l;
     char err[256];

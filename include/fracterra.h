@@ -221,7 +221,7 @@ frt_result frt_write_picture(const char *path, const uint8_t *pixels, uint32_t w
 typedef struct frt_hillshade_desc {
     double azimuth;              /* light from, degrees clockwise from north (up); 0 -> 315; 360 for north */
     double altitude;             /* degrees above the horizon; 0 -> 45 */
-    double z_factor;             /* vertical exaggeration; 0 -> automatic (RMS slope of 45 degrees) */
+    double z_factor;             /* vertical exaggeration; 0 -> automatic (RMS slope of 25 degrees) */
     double spacing_x, spacing_y; /* distance between columns / rows in height units; 0 -> 1 */
     bool color;                  /* blend with a hypsometric colour ramp: RGB output */
 } frt_hillshade_desc;
@@ -230,7 +230,8 @@ typedef struct frt_hillshade_desc {
 size_t frt_hillshade_size(uint32_t width, uint32_t height, const frt_hillshade_desc *desc);
 
 /* Shaded relief by Horn's method, as gdaldem hillshade -compute_edges: 1 + 254 * max(0, cos(incidence)), edges
- * from replicated border samples; 0 where a height is not finite. `desc` may be NULL. */
+ * from linearly extrapolated border samples (2a - b, as gdaldem does); 0 where a height is not finite. `desc` may be
+ * NULL. */
 frt_result frt_hillshade(const float *h, uint32_t width, uint32_t height, const frt_hillshade_desc *desc, uint8_t *out,
                          size_t out_size);
 
@@ -239,7 +240,7 @@ frt_result frt_hillshade(const float *h, uint32_t width, uint32_t height, const 
 typedef struct frt_profiles_desc {
     uint32_t every;    /* draw every K-th row, front to back, with hidden-line removal; 0 -> 8 */
     double dilation;   /* vertical dilation (grid-spacing units per height unit; negative inverts); 0 -> automatic:
-                          relief spans 1/8 of the plot's width */
+                          relief spans 1/10 of the plot's width */
     double tilt;       /* 0 -> 1 */
     double base;       /* thickness of a solid base ("stratum") below the lowest point, in z units; 0 -> none */
     uint32_t width;    /* picture width in pixels (PNG) or points (SVG, PDF); 0 -> 1200 */

@@ -63,18 +63,18 @@ static void test_hillshade_planes(void)
     const struct {
         double a, b, sx, sy, z, az, alt;
     } cases[] = {
-        {0.0, 0.0, 1, 1, 1, 0, 0},         /* flat, defaults: 1 + 254 sin 45 */
-        {0.0, 0.0, 1, 1, 1, 90, 30},       /* flat: 1 + 254 sin 30 */
-        {0.5, 0.0, 1, 1, 1, 0, 0},         /* rising to the east, light from the north-west */
-        {0.0, 0.7, 1, 1, 1, 0, 0},         /* rising to the south */
-        {-0.4, 0.3, 1, 1, 2.5, 0, 0},      /* z-factor */
-        {0.3, 0.2, 1, 1, 1, 90, 45},       /* light from the east onto ground rising to the east: dark */
-        {-0.6, -0.6, 1, 1, 1, 0, 0},       /* rising to the north-west: faces away from the light */
-        {2.0, 1.0, 4, 2, 1, 200, 60},      /* spacing */
-        {0.8, -0.3, 1, 1, 1, 360, 20},     /* light from the north */
+        {0.0, 0.0, 1, 1, 1, 0, 0},          /* flat, defaults: 1 + 254 sin 45 */
+        {0.0, 0.0, 1, 1, 1, 90, 30},        /* flat: 1 + 254 sin 30 */
+        {0.5, 0.0, 1, 1, 1, 0, 0},          /* rising to the east, light from the north-west */
+        {0.0, 0.7, 1, 1, 1, 0, 0},          /* rising to the south */
+        {-0.4, 0.3, 1, 1, 2.5, 0, 0},       /* z-factor */
+        {0.3, 0.2, 1, 1, 1, 90, 45},        /* light from the east onto ground rising to the east: dark */
+        {-0.6, -0.6, 1, 1, 1, 0, 0},        /* rising to the north-west: faces away from the light */
+        {2.0, 1.0, 4, 2, 1, 200, 60},       /* spacing */
+        {0.8, -0.3, 1, 1, 1, 360, 20},      /* light from the north */
         {0.05, 0.02, 0.1, 0.1, 3, 135, 10}, /* low sun */
-        {3.0, 0.0, 1, 1, 1, 270, 45},      /* steep, facing the light from the west */
-        {-3.0, 0.0, 1, 1, 1, 270, 45},     /* steep, facing away from it: in shadow, 1 */
+        {3.0, 0.0, 1, 1, 1, 270, 45},       /* steep, facing the light from the west */
+        {-3.0, 0.0, 1, 1, 1, 270, 45},      /* steep, facing away from it: in shadow, 1 */
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         fill_plane(h, W, H, cases[c].a, cases[c].b);
@@ -418,7 +418,10 @@ static bool file_starts(const char *path, const void *magic, size_t n)
     return got == n && memcmp(buf, magic, n) == 0;
 }
 
-static uint32_t be32(const unsigned char *p) { return (uint32_t)p[0] << 24 | p[1] << 16 | p[2] << 8 | p[3]; }
+static uint32_t be32(const unsigned char *p)
+{
+    return (uint32_t)p[0] << 24 | p[1] << 16 | p[2] << 8 | p[3];
+}
 
 static int temp_files_left(void)
 {
@@ -512,7 +515,7 @@ static void test_profiles_arguments(void)
         double dilation, tilt, base, line_width;
         uint32_t width;
     } bad[] = {{NAN, 0, 0, 0, 0}, {0, -1, 0, 0, 0}, {0, INFINITY, 0, 0, 0}, {0, 0, -1, 0, 0},
-               {0, 0, NAN, 0, 0}, {0, 0, 0, -2, 0},       {0, 0, 0, 0, 20000}, {0, 0, 0, 0, 3}};
+               {0, 0, NAN, 0, 0}, {0, 0, 0, -2, 0}, {0, 0, 0, 0, 20000},    {0, 0, 0, 0, 3}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         memset(&d, 0, sizeof d);
         d.dilation = bad[i].dilation;
