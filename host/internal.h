@@ -14,8 +14,14 @@ typedef struct frt_u32x4 {
 
 /* Philox4x32-10 of Salmon et al. (2011), bit-identical to Random123's philox4x32(10). */
 frt_u32x4 frt_philox4x32_10(frt_u32x4 ctr, uint32_t key0, uint32_t key1);
-/* Box–Muller on words w0, w1 (spec v1): sqrt(-2 ln u) * cos(2 pi v), float32 throughout. */
+/* Box–Muller on words w0, w1 (spec v2, docs/ALGORITHM.md §2.2): sqrt(-2 ln u) * cos(2 pi v) with every step
+ * built from float32 +, -, x only, so that every IEEE backend gives the same bits. */
 float frt_gauss_from_words(uint32_t w0, uint32_t w1);
+/* The three stages, exposed for the accuracy tests: -2 ln u for u in (0, 1], sqrt by Newton from an integer seed,
+ * cos(2 pi v) with exact quadrant reduction. */
+float frt_neg2_ln(float u);
+float frt_sqrt_nr(float x);
+float frt_cos_2pi(float v);
 /* g(level, i, j) for the key derived from `seed`. */
 float frt_noise(uint64_t seed, uint32_t level, uint32_t i, uint32_t j);
 

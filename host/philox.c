@@ -1,7 +1,14 @@
 /* philox.c — the counter-based noise of the contract: Philox4x32-10 and the Gaussian transform (ALGORITHM.md §2). */
 #include "internal.h"
 
-#include <math.h>
+#include <float.h>
+#include <string.h>
+
+/* The transform needs every float expression evaluated in float32 (ALGORITHM.md §5): not x87's extended precision.
+ * (Contraction is switched off by the build: -ffp-contract=off.) */
+#if !defined(FLT_EVAL_METHOD) || FLT_EVAL_METHOD != 0
+#error "the noise contract needs FLT_EVAL_METHOD == 0 (docs/ALGORITHM.md section 5)"
+#endif
 
 /* Random123's constants for philox4x32: multipliers and Weyl key increments. */
 #define PHILOX_M0 0xD2511F53u
@@ -28,16 +35,107 @@ frt_u32x4 frt_philox4x32_10(frt_u32x4 c, uint32_t k0, uint32_t k1)
     return c;
 }
 
+/* ---- The Gaussian transform of spec v2 (ALGORITHM.md §2.2–2.5) ----
+ * Built only from float32 +, -, * (each rounded to nearest, none fused: the build uses -ffp-contract=off, the
+ * shader `precise`) and exact bit operations, so shaders/philox.glsl gives the same bits on any IEEE-754 device.
+ * Every line below is one step of the spec, in the spec's order; do not "simplify" them. The three stages are
+ * external so that tests/test_philox.c can measure each on every input (it declares them itself). */
+
+/* §2.3: -2 ln m = -2f - f^2 Q(f), Q = 2P the degree-8 polynomial of the table; 2 ln 2 = L2_HI + L2_LO. */
+#define Q0 (-0x1.00001ep+0f)
+#define Q1 0x1.5542f6p-1f
+#define Q2 (-0x1.01e9dap-1f)
+#define Q3 0x1.6830e8p-2f
+#define Q4 (-0x1.5c3ae6p-1f)
+#define Q5 (-0x1.2f3e04p+0f)
+#define Q6 (-0x1.f88f2ep+1f)
+#define Q7 (-0x1.3cfc78p+2f)
+#define Q8 (-0x1.be5254p+1f)
+#define L2_HI 0x1.62e300p+0f
+#define L2_LO 0x1.2fefa4p-16f
+/* §2.5: cos(pi t / 2) = 1 + s (C1 + ... + s C4), sin(pi t / 2) = t (S0 + ... + s S3), s = t^2. */
+#define C1 (-0x1.3bd3ccp+0f)
+#define C2 0x1.03c1b0p-2f
+#define C3 (-0x1.55b2b6p-6f)
+#define C4 0x1.d4f7eep-11f
+#define S0 0x1.921fb6p+0f
+#define S1 (-0x1.4abc24p-1f)
+#define S2 0x1.4680a4p-4f
+#define S3 (-0x1.33198ep-8f)
+
+static uint32_t float_bits(float x)
+{
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+
+static float bits_float(uint32_t b)
+{
+    float x;
+    memcpy(&x, &b, sizeof x);
+    return x;
+}
+
+/* §2.3: -2 ln u for u in [2^-33, 1]. u = 2^e * m with m in (0.5, 1] from the bits (exact), f = m - 1 (exact),
+ * Q(f) by Estrin's scheme (short dependency chains: the noise is latency-bound on lavapipe), and -e * 2 ln 2 from
+ * a 17-bit head (exact product) and a tail. The terms do not cancel: -2f >= 0 and f^2 Q(f) <= 0 is smaller. */
+float frt_neg2_ln(float u)
+{
+    const uint32_t b = float_bits(u);
+    const uint32_t eb = (b - 1u) & 0xFF800000u; /* exponent field of the binade (0.5, 1] * 2^e holding u */
+    const float m = bits_float(b - eb + 0x3F000000u);
+    const float k = (float)(126 - (int32_t)(eb >> 23)); /* -e, 0..33 */
+    const float f = m - 1.0f;
+    const float f2 = f * f;
+    const float f4 = f2 * f2;
+    const float a0 = Q0 + f * Q1;
+    const float a1 = Q2 + f * Q3;
+    const float a2 = Q4 + f * Q5;
+    const float a3 = Q6 + f * Q7;
+    const float b0 = a0 + f2 * a1;
+    const float b1 = a2 + f2 * a3;
+    const float q = b0 + f4 * (b1 + f4 * Q8);
+    return (k * L2_HI + (k * L2_LO - 2.0f * f)) - f2 * q;
+}
+
+/* §2.4: sqrt x for x in [0, 46]: the classic integer seed for 1/sqrt x (from max(x, 2^-40), so that x = 0 cannot
+ * overflow y * y), two Newton steps written as 1.5 y - (h y)(y y) (two products in parallel), then x * y and one
+ * residual correction. x = 0 gives +0. */
+float frt_sqrt_nr(float x)
+{
+    const uint32_t bx = float_bits(x);
+    float y = bits_float(0x5F3759DFu - ((bx > 0x2B800000u ? bx : 0x2B800000u) >> 1));
+    const float h = 0.5f * x;
+    y = 1.5f * y - (h * y) * (y * y);
+    y = 1.5f * y - (h * y) * (y * y);
+    const float r = x * y;
+    return r + (0.5f * y) * (x - r * r);
+}
+
+/* §2.5: cos(2 pi v) for v = float(w1) * 2^-32 in [0, 1]. 4v splits exactly into a quadrant q and t in
+ * [-1/2, 1/2], so the angle is never rounded; then polynomials in s = t^2 (degrees 8 and 7 in t). */
+float frt_cos_2pi(float v)
+{
+    const float w = v * 4.0f;
+    int32_t q = (int32_t)w; /* 0..4, exact truncation */
+    float t = w - (float)q; /* [0, 1), exact */
+    if (t > 0.5f) {
+        t = t - 1.0f; /* exact (Sterbenz) */
+        q += 1;
+    }
+    const float s = t * t;
+    const float c = 1.0f + s * (C1 + s * (C2 + s * (C3 + s * C4)));
+    const float sn = t * (S0 + s * (S1 + s * (S2 + s * S3)));
+    const float r = (q & 1) ? sn : c; /* quadrants 0..3: c, -sn, -c, sn */
+    return ((q + 1) & 2) ? -r : r;
+}
+
 float frt_gauss_from_words(uint32_t w0, uint32_t w1)
 {
-    /* Each line is one float32 operation; the build uses -ffp-contract=off so that no multiply-add is fused,
-     * matching `precise` in shaders/philox.glsl. logf/cosf/sqrtf are glibc's (log and cos within 1 ulp);
-     * device versions may differ by a few ulp: ALGORITHM.md §5. */
-    float u = (float)w0 * 0x1p-32f + 0x1p-33f; /* (0, 1]: never 0, so the log is finite */
-    float v = (float)w1 * 0x1p-32f;            /* [0, 1] */
-    float r = sqrtf(-2.0f * logf(u));
-    float a = 6.2831855f * v; /* float nearest 2*pi */
-    return r * cosf(a);
+    const float u = (float)w0 * 0x1p-32f + 0x1p-33f; /* (0, 1]: never 0, so the log is finite */
+    const float v = (float)w1 * 0x1p-32f;            /* [0, 1] */
+    return frt_sqrt_nr(frt_neg2_ln(u)) * frt_cos_2pi(v);
 }
 
 float frt_noise(uint64_t seed, uint32_t level, uint32_t i, uint32_t j)

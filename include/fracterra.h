@@ -17,7 +17,7 @@ extern "C" {
 #define FRT_VERSION_PATCH 0
 #define FRT_VERSION_STRING "0.1.0"
 /* Version of the noise-stream contract (docs/ALGORITHM.md) that this build implements. */
-#define FRT_SPEC_VERSION 1
+#define FRT_SPEC_VERSION 2
 
 #define FRT_DEFAULT_LEVELS 9u /* 513 x 513, as in the 1988 report */
 #define FRT_DEFAULT_HURST 0.8

@@ -17,16 +17,88 @@ uvec4 frt_philox4x32_10(uvec4 c, uvec2 k)
     return c;
 }
 
-// Box–Muller on words w0, w1 (spec v1). `precise` forbids fused multiply-adds, as -ffp-contract=off does in C.
-// Constants by bit pattern so no decimal rounding can differ: 2^-32, 2^-33, and the float nearest 2*pi.
-// log/cos/sqrt precision is the device's: ALGORITHM.md §5 says what may differ.
+// The Gaussian transform of spec v2 (ALGORITHM.md §2.2-2.5): float32 +, -, * and exact bit operations only, so
+// the result is the same bits as host/philox.c on any IEEE-754 device. `precise` (SPIR-V NoContraction) on every
+// float forbids fused multiply-adds and reordering, as -ffp-contract=off does in C. Each line is one step of the
+// spec in the spec's order. Constants by bit pattern (names and decimals as in ALGORITHM.md's tables).
+#define FRT_Q0 uintBitsToFloat(0xBF80000Fu)
+#define FRT_Q1 uintBitsToFloat(0x3F2AA17Bu)
+#define FRT_Q2 uintBitsToFloat(0xBF00F4EDu)
+#define FRT_Q3 uintBitsToFloat(0x3EB41874u)
+#define FRT_Q4 uintBitsToFloat(0xBF2E1D73u)
+#define FRT_Q5 uintBitsToFloat(0xBF979F02u)
+#define FRT_Q6 uintBitsToFloat(0xC07C4797u)
+#define FRT_Q7 uintBitsToFloat(0xC09E7E3Cu)
+#define FRT_Q8 uintBitsToFloat(0xC05F292Au)
+#define FRT_L2_HI uintBitsToFloat(0x3FB17180u)
+#define FRT_L2_LO uintBitsToFloat(0x3797F7D2u)
+#define FRT_C1 uintBitsToFloat(0xBF9DE9E6u)
+#define FRT_C2 uintBitsToFloat(0x3E81E0D8u)
+#define FRT_C3 uintBitsToFloat(0xBCAAD95Bu)
+#define FRT_C4 uintBitsToFloat(0x3A6A7BF7u)
+#define FRT_S0 uintBitsToFloat(0x3FC90FDBu)
+#define FRT_S1 uintBitsToFloat(0xBF255E12u)
+#define FRT_S2 uintBitsToFloat(0x3DA34052u)
+#define FRT_S3 uintBitsToFloat(0xBB998CC7u)
+
+// §2.3: -2 ln u for u in [2^-33, 1]: u = 2^e * m, m in (0.5, 1] from the bits, f = m - 1, Q(f) by Estrin's scheme.
+float frt_neg2_ln(float u)
+{
+    const uint b = floatBitsToUint(u);
+    const uint eb = (b - 1u) & 0xFF800000u;
+    precise float m = uintBitsToFloat(b - eb + 0x3F000000u);
+    precise float k = float(126 - int(eb >> 23));
+    precise float f = m - 1.0;
+    precise float f2 = f * f;
+    precise float f4 = f2 * f2;
+    precise float a0 = FRT_Q0 + f * FRT_Q1;
+    precise float a1 = FRT_Q2 + f * FRT_Q3;
+    precise float a2 = FRT_Q4 + f * FRT_Q5;
+    precise float a3 = FRT_Q6 + f * FRT_Q7;
+    precise float b0 = a0 + f2 * a1;
+    precise float b1 = a2 + f2 * a3;
+    precise float q = b0 + f4 * (b1 + f4 * FRT_Q8);
+    precise float x = (k * FRT_L2_HI + (k * FRT_L2_LO - 2.0 * f)) - f2 * q;
+    return x;
+}
+
+// §2.4: sqrt x for x in [0, 46]: integer seed for 1/sqrt max(x, 2^-40), two Newton steps 1.5 y - (h y)(y y), x * y,
+// one residual correction.
+float frt_sqrt_nr(float x)
+{
+    precise float y = uintBitsToFloat(0x5F3759DFu - (max(floatBitsToUint(x), 0x2B800000u) >> 1));
+    precise float h = 0.5 * x;
+    y = 1.5 * y - (h * y) * (y * y);
+    y = 1.5 * y - (h * y) * (y * y);
+    precise float r = x * y;
+    precise float rc = r + (0.5 * y) * (x - r * r);
+    return rc;
+}
+
+// §2.5: cos(2 pi v) for v in [0, 1]: 4v = quadrant q + t exactly, t in [-1/2, 1/2], polynomials in s = t^2.
+float frt_cos_2pi(float v)
+{
+    precise float w = v * 4.0;
+    int q = int(w); // signed: one instruction on SIMD CPUs, and w is in [0, 4]
+    precise float t = w - float(q);
+    if (t > 0.5) {
+        t = t - 1.0;
+        q += 1;
+    }
+    precise float s = t * t;
+    precise float c = 1.0 + s * (FRT_C1 + s * (FRT_C2 + s * (FRT_C3 + s * FRT_C4)));
+    precise float sn = t * (FRT_S0 + s * (FRT_S1 + s * (FRT_S2 + s * FRT_S3)));
+    precise float r = (q & 1) != 0 ? sn : c; // quadrants 0..3: c, -sn, -c, sn
+    precise float sr = ((q + 1) & 2) != 0 ? -r : r;
+    return sr;
+}
+
+// Box-Muller on words w0, w1: sqrt(-2 ln u) * cos(2 pi v). Constants 2^-32 and 2^-33 by bit pattern.
 float frt_gauss(uint w0, uint w1)
 {
     precise float u = float(w0) * uintBitsToFloat(0x2F800000u) + uintBitsToFloat(0x2F000000u);
     precise float v = float(w1) * uintBitsToFloat(0x2F800000u);
-    precise float r = sqrt(-2.0 * log(u));
-    precise float a = uintBitsToFloat(0x40C90FDBu) * v;
-    precise float g = r * cos(a);
+    precise float g = frt_sqrt_nr(frt_neg2_ln(u)) * frt_cos_2pi(v);
     return g;
 }
 

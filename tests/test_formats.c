@@ -3,6 +3,9 @@
  * other tools, failures that leave old files intact, and a robustness pass over truncated and mutated files. */
 #include "check.h"
 
+#define FRT_STR2(x) #x
+#define FRT_STR(x) FRT_STR2(x)
+
 #include <dirent.h>
 #include <errno.h>
 #include <png.h>
@@ -265,7 +268,7 @@ static void test_sidecar(void)
               strstr(s, "\"device\": \"quote\\\" back\\\\slash\"") && strstr(s, "\"hurst\": 0.5,") &&
               strstr(s, "\"dimension\": 2.5,") && strstr(s, "\"dtype\": \"float32\"") &&
               strstr(s, "\"byte_order\": \"little\"") && strstr(s, "\"spacing_x\": 1,") &&
-              strstr(s, "\"z_scale\": 1,") && strstr(s, "\"spec_version\": 1") &&
+              strstr(s, "\"z_scale\": 1,") && strstr(s, "\"spec_version\": " FRT_STR(FRT_SPEC_VERSION)) &&
               strstr(s, "\"fracterra_version\": \"" FRT_VERSION_STRING "\""),
           "sidecar JSON: %s", s);
     free(b);
