@@ -296,36 +296,14 @@ static frt_result open_input(const char *path, FILE **fp, frt_file_format *forma
     return r;
 }
 
-frt_result frt_read_heightfield_info(const char *path, frt_field_info *info, char *err, size_t err_size)
+/* Opens `path` (and its sidecar) and runs the stream reader: the header only when `out` is NULL. */
+static frt_result read_path(const char *path, float *out, size_t out_count, frt_field_info *info, char *err,
+                            size_t err_size)
 {
     FILE *fp;
     frt_file_format format = FRT_FILE_DEFAULT;
     char *sidecar;
     frt_result r = open_input(path, &fp, &format, &sidecar, err, err_size);
-    if (r == FRT_SUCCESS)
-        r = frt_read_stream(fp, format, sidecar, path, info, NULL, 0, err, err_size);
-    else if (info)
-        memset(info, 0, sizeof *info);
-    if (fp)
-        fclose(fp);
-    free(sidecar);
-    return r;
-}
-
-frt_result frt_read_heightfield(const char *path, float *out, size_t out_count, frt_field_info *info, char *err,
-                                size_t err_size)
-{
-    FILE *fp;
-    frt_file_format format = FRT_FILE_DEFAULT;
-    char *sidecar;
-    frt_result r;
-    if (!out) {
-        r = frt_fail(err, err_size, FRT_ERROR_INVALID_ARGUMENT, path ? path : "", ": no output buffer");
-        fp = NULL;
-        sidecar = NULL;
-    } else {
-        r = open_input(path, &fp, &format, &sidecar, err, err_size);
-    }
     if (r == FRT_SUCCESS)
         r = frt_read_stream(fp, format, sidecar, path, info, out, out_count, err, err_size);
     else if (info)
@@ -334,4 +312,20 @@ frt_result frt_read_heightfield(const char *path, float *out, size_t out_count, 
         fclose(fp);
     free(sidecar);
     return r;
+}
+
+frt_result frt_read_heightfield_info(const char *path, frt_field_info *info, char *err, size_t err_size)
+{
+    return read_path(path, NULL, 0, info, err, err_size);
+}
+
+frt_result frt_read_heightfield(const char *path, float *out, size_t out_count, frt_field_info *info, char *err,
+                                size_t err_size)
+{
+    if (!out) {
+        if (info)
+            memset(info, 0, sizeof *info);
+        return frt_fail(err, err_size, FRT_ERROR_INVALID_ARGUMENT, path ? path : "", ": no output buffer");
+    }
+    return read_path(path, out, out_count, info, err, err_size);
 }
