@@ -32,8 +32,10 @@ void frt_progress_begin(const char *label, uint64_t total); /* total 0: elapsed 
 void frt_progress_set(uint64_t done);
 void frt_progress_end(void);
 
-/* cli_frames.c: the growth frames of `field` (levels n, side 2^n + 1) after each level, on the final scale. */
-int frt_write_frames(const char *dir, const char *gif, const float *field, uint32_t levels, const frt_write_desc *wd);
+/* cli_frames.c: the growth frames of `field` (levels n, side 2^n + 1, or 2^n periodic) after each level, on the
+ * final scale. */
+int frt_write_frames(const char *dir, const char *gif, const float *field, uint32_t side, uint32_t levels,
+                     const frt_write_desc *wd);
 
 int frt_cmd_generate(int argc, char **argv);
 int frt_cmd_render(int argc, char **argv);

@@ -11,19 +11,26 @@
 #define GIF_LAST_DELAY_CS 300u /* hold the finished terrain */
 
 /* Frame `level` of an n-level field of side m: each point takes the value of the nearest lattice point of
- * spacing s = 2^(n-level) (ties go up; the last lattice point is the border, so no clamping is needed). */
+ * spacing s = 2^(n-level), ties going up. An FFC field's last lattice point is its border; a periodic field's
+ * (side 2^n) lies one step past the edge and wraps to 0. */
+static uint32_t nearest(uint32_t x, uint32_t s, uint32_t m)
+{
+    uint32_t n = (x + s / 2) / s * s;
+    return n >= m ? n - m : n;
+}
+
 static void frame_of(const float *field, uint32_t m, uint32_t s, float *out)
 {
     for (uint32_t y = 0; y < m; ++y) {
-        uint32_t ny = (y + s / 2) / s * s;
+        uint32_t ny = nearest(y, s, m);
         for (uint32_t x = 0; x < m; ++x)
-            out[(size_t)y * m + x] = field[(size_t)ny * m + (x + s / 2) / s * s];
+            out[(size_t)y * m + x] = field[(size_t)ny * m + nearest(x, s, m)];
     }
 }
 
-int frt_write_frames(const char *dir, const char *gif, const float *field, uint32_t levels, const frt_write_desc *wd)
+int frt_write_frames(const char *dir, const char *gif, const float *field, uint32_t m, uint32_t levels,
+                     const frt_write_desc *wd)
 {
-    const uint32_t m = frt_grid_side(levels);
     const size_t count = (size_t)m * m;
     float min = field[0], max = field[0];
     for (size_t i = 1; i < count; ++i) {

@@ -24,6 +24,8 @@ static void generate_help(void)
            "  --dimension D       fractal dimension, 2 < D < 3, H = 3 - D (not with --hurst)\n"
            "  --sigma S           amplitude, any non-zero real; negative inverts peaks and valleys (default 1)\n"
            "  --seed U64          noise key, decimal or 0x hex (default 1)\n"
+           "  --edge E            ffc (default): (2^N+1)^2, border points average 3 neighbours;\n"
+           "                      periodic: 2^N x 2^N on a torus, copies tile without seams\n"
            "  --backend B         auto | vulkan | cpu (default auto: Vulkan if a device exists, else CPU)\n"
            "  --device D          Vulkan device by index or name substring (see: fracterra devices)\n"
            "\n"
@@ -99,7 +101,8 @@ int frt_cmd_generate(int argc, char **argv)
         OPT_PREVIEW,
         OPT_PREVIEW_STYLE,
         OPT_FRAMES,
-        OPT_GIF
+        OPT_GIF,
+        OPT_EDGE
     };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
                                          {"hurst", required_argument, 0, OPT_HURST},
@@ -116,6 +119,7 @@ int frt_cmd_generate(int argc, char **argv)
                                          {"preview-style", required_argument, 0, OPT_PREVIEW_STYLE},
                                          {"frames", required_argument, 0, OPT_FRAMES},
                                          {"gif", required_argument, 0, OPT_GIF},
+                                         {"edge", required_argument, 0, OPT_EDGE},
                                          {"output", required_argument, 0, 'o'},
                                          {"quiet", no_argument, 0, 'q'},
                                          {"help", no_argument, 0, 'h'},
@@ -193,6 +197,14 @@ int frt_cmd_generate(int argc, char **argv)
             break;
         case OPT_FRAMES: frames = optarg; break;
         case OPT_GIF: gif = optarg; break;
+        case OPT_EDGE:
+            if (strcmp(optarg, "ffc") == 0)
+                desc.edge = FRT_EDGE_FFC;
+            else if (strcmp(optarg, "periodic") == 0)
+                desc.edge = FRT_EDGE_PERIODIC;
+            else
+                return frt_cli_fail(FRT_EXIT_USAGE, "--edge must be ffc or periodic, got '%s'", optarg);
+            break;
         case 'o':
             if (n_outputs == MAX_OUTPUTS)
                 return frt_cli_fail(FRT_EXIT_USAGE, "at most %d outputs (-o)", MAX_OUTPUTS);
@@ -239,7 +251,7 @@ int frt_cmd_generate(int argc, char **argv)
     frt_terrain_desc resolved;
     if (frt_terrain_desc_resolved(&desc, &resolved) != FRT_SUCCESS)
         return frt_cli_fail(FRT_EXIT_USAGE, "invalid parameters");
-    const uint32_t side = frt_grid_side(resolved.levels);
+    const uint32_t side = frt_terrain_side(&resolved);
     const size_t count = frt_heightfield_size(&resolved);
 
     /* Unwritable targets fail before any work. */
@@ -343,7 +355,7 @@ int frt_cmd_generate(int argc, char **argv)
         }
     }
     if (frames || gif) {
-        code = frt_write_frames(frames, gif, field, resolved.levels, &wd);
+        code = frt_write_frames(frames, gif, field, side, resolved.levels, &wd);
         if (code != FRT_EXIT_OK)
             goto out;
     }

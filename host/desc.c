@@ -55,17 +55,23 @@ frt_result frt_terrain_desc_resolved(const frt_terrain_desc *in, frt_terrain_des
         return FRT_ERROR_INVALID_ARGUMENT;
     if (!isfinite(d.sigma) || fabs(d.sigma) > 1e30) /* keeps every height finite in float32 */
         return FRT_ERROR_INVALID_ARGUMENT;
-    if (d.edge != FRT_EDGE_FFC)
+    if (d.edge != FRT_EDGE_FFC && d.edge != FRT_EDGE_PERIODIC)
         return FRT_ERROR_INVALID_ARGUMENT;
     return FRT_SUCCESS;
 }
 
-size_t frt_heightfield_size(const frt_terrain_desc *desc)
+uint32_t frt_terrain_side(const frt_terrain_desc *desc)
 {
     frt_terrain_desc d;
     if (frt_terrain_desc_resolved(desc, &d) != FRT_SUCCESS)
         return 0;
-    size_t side = frt_grid_side(d.levels);
+    uint32_t side = frt_grid_side(d.levels);
+    return d.edge == FRT_EDGE_PERIODIC && side ? side - 1u : side;
+}
+
+size_t frt_heightfield_size(const frt_terrain_desc *desc)
+{
+    size_t side = frt_terrain_side(desc);
     if (side == 0 || side > SIZE_MAX / side)
         return 0;
     return side * side;

@@ -132,7 +132,8 @@ char *frt_meta_json(const frt_field_out *f, int style)
         json_object_object_add(o, "dimension", json_object_new_double_s(3.0 - f->terrain.hurst, buf));
         put_double(o, "sigma", f->terrain.sigma);
         json_object_object_add(o, "seed", json_object_new_uint64(f->terrain.seed));
-        json_object_object_add(o, "edge", json_object_new_string("ffc"));
+        json_object_object_add(o, "edge",
+                               json_object_new_string(f->terrain.edge == FRT_EDGE_PERIODIC ? "periodic" : "ffc"));
     }
     if (f->backend)
         json_object_object_add(o, "backend", json_object_new_string(f->backend));
@@ -268,10 +269,11 @@ frt_result frt_meta_parse(const char *text, size_t len, frt_field_info *info, fr
     const char *edge = get_string(root, "edge");
     if (get_uint(root, "levels", &levels) && levels >= 1 && levels <= FRT_MAX_LEVELS &&
         get_number(root, "hurst", &d.hurst) && d.hurst != 0.0 && get_number(root, "sigma", &d.sigma) &&
-        d.sigma != 0.0 && get_uint(root, "seed", &d.seed) && (!edge || strcmp(edge, "ffc") == 0)) {
+        d.sigma != 0.0 && get_uint(root, "seed", &d.seed) &&
+        (!edge || strcmp(edge, "ffc") == 0 || strcmp(edge, "periodic") == 0)) {
         d.levels = (uint32_t)levels;
         d.seed_is_explicit = true;
-        d.edge = FRT_EDGE_FFC;
+        d.edge = edge && strcmp(edge, "periodic") == 0 ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
         if (frt_terrain_desc_resolved(&d, &info->terrain) == FRT_SUCCESS)
             info->has_terrain = true;
         else

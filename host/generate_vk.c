@@ -12,6 +12,8 @@ struct generate_push {
     uint32_t side, level, shift, cells;
     uint32_t key[2];
     float amp_d, amp_s;
+    uint32_t mask;  /* coordinates & mask: side - 1 in periodic mode (a torus), else all ones */
+    uint32_t lmask; /* lattice coordinates & lmask for the noise: 2^level - 1 in periodic mode, else all ones */
 };
 
 enum { LOCAL_SIZE = 8, BLOCK_CELLS = 4 }; /* shaders/generate.comp: local_size 8x8, BLOCK=4 variant */
@@ -91,8 +93,8 @@ frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *o
         return frt_set_error(ctx, FRT_ERROR_TOO_LARGE,
                              "a %u x %u grid needs %.1f MiB in one allocation; %s allows %.1f MiB per allocation "
                              "and has a %.1f MiB heap (use fewer levels or --backend cpu)",
-                             frt_grid_side(d.levels), frt_grid_side(d.levels), (double)bytes / 1048576.0,
-                             ctx->info.name, (double)ctx->info.max_allocation_bytes / 1048576.0,
+                             frt_terrain_side(&d), frt_terrain_side(&d), (double)bytes / 1048576.0, ctx->info.name,
+                             (double)ctx->info.max_allocation_bytes / 1048576.0,
                              (double)ctx->info.device_local_heap_bytes / 1048576.0);
     frt_result r = ensure_pipelines(ctx);
     if (r == FRT_SUCCESS)
@@ -103,7 +105,8 @@ frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *o
     if (r != FRT_SUCCESS)
         return r;
 
-    const uint32_t n = d.levels, side = frt_grid_side(n);
+    const uint32_t n = d.levels, side = frt_terrain_side(&d);
+    const bool periodic = d.edge == FRT_EDGE_PERIODIC;
     if (ctx->timestamps) {
         vkCmdResetQueryPool(cmd, ctx->timestamps, 0, 2);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, ctx->timestamps, 0);
@@ -114,6 +117,7 @@ frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *o
     pc.side = side;
     pc.key[0] = (uint32_t)d.seed;
     pc.key[1] = (uint32_t)(d.seed >> 32);
+    pc.mask = periodic ? side - 1u : UINT32_MAX;
     int bound = -1;
     for (uint32_t level = 0; level <= n; ++level) {
         pc.level = level;
@@ -121,6 +125,7 @@ frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *o
         pc.cells = level ? 1u << (level - 1) : 1u;
         pc.amp_d = level ? frt_sigma_diamond(&d, level) : (float)d.sigma;
         pc.amp_s = level ? frt_sigma_square(&d, level) : 0.0f;
+        pc.lmask = periodic ? (1u << level) - 1u : UINT32_MAX;
         /* Blocks of BLOCK_CELLS^2 cells per invocation once a level has enough cells to fill workgroups. */
         int variant = pc.cells >= LOCAL_SIZE * BLOCK_CELLS ? 1 : 0;
         uint32_t invocations = variant ? pc.cells / BLOCK_CELLS : pc.cells;

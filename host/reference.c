@@ -24,6 +24,29 @@ static float square_mean(const float *h, uint32_t side, uint32_t x, uint32_t y, 
     return ((nb[0] + nb[1]) + nb[2]) * frt_one_third();
 }
 
+/* Periodic mode (§3.1): side M = 2^n, coordinates mod M, every square point has 4 neighbours. */
+static void generate_periodic(const frt_terrain_desc *d, float *out)
+{
+    const uint32_t n = d->levels, M = 1u << n, mask = M - 1u;
+#define P(x, y) out[(size_t)((y)&mask) * M + ((x)&mask)]
+    P(0u, 0u) = (float)d->sigma * frt_noise(d->seed, 0, 0, 0);
+    for (uint32_t level = 1; level <= n; ++level) {
+        const uint32_t s = 1u << (n - level);
+        const float sd = frt_sigma_diamond(d, level), ss = frt_sigma_square(d, level);
+        for (uint32_t y = s; y < M; y += 2 * s)
+            for (uint32_t x = s; x < M; x += 2 * s) {
+                float mean = ((P(x - s, y - s) + P(x + s, y - s)) + (P(x - s, y + s) + P(x + s, y + s))) * 0.25f;
+                P(x, y) = mean + sd * frt_noise(d->seed, level, x / s, y / s);
+            }
+        for (uint32_t y = 0; y < M; y += s)
+            for (uint32_t x = ((y / s) % 2 == 0) ? s : 0; x < M; x += 2 * s) {
+                float mean = ((P(x - s, y) + P(x + s, y)) + (P(x, y - s) + P(x, y + s))) * 0.25f; /* W E N S */
+                P(x, y) = mean + ss * frt_noise(d->seed, level, x / s, y / s);
+            }
+    }
+#undef P
+}
+
 frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out_count, frt_run_info *info)
 {
     double t0 = frt_now_seconds();
@@ -39,6 +62,10 @@ frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out
     const uint32_t n = d.levels, side = frt_grid_side(n), full = side - 1;
     const float sigma = (float)d.sigma;
     memset(out, 0, count * sizeof *out);
+    if (d.edge == FRT_EDGE_PERIODIC) {
+        generate_periodic(&d, out);
+        goto done;
+    }
 
     /* Level 0: the four corners, noise at unit-square positions (0|1, 0|1). */
     for (uint32_t j = 0; j <= 1; ++j)
@@ -62,6 +89,7 @@ frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out
                 out[(size_t)y * side + x] =
                     square_mean(out, side, x, y, s) + ss * frt_noise(d.seed, level, x / s, y / s);
     }
+done:
     if (info) {
         double t = frt_now_seconds() - t0;
         info->device_seconds = t;

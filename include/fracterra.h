@@ -42,8 +42,10 @@ typedef enum frt_result {
 /* A short static English description of `r`; never NULL. */
 const char *frt_result_string(frt_result r);
 
-/* How border points are treated. FFC: a border square point averages its 3 existing neighbours. */
-typedef enum frt_edge { FRT_EDGE_DEFAULT = 0, FRT_EDGE_FFC = 1 } frt_edge;
+/* How border points are treated (docs/ALGORITHM.md §3, §3.1).
+ * FFC: a (2^n+1)^2 grid; a border square point averages its 3 existing neighbours.
+ * PERIODIC: a 2^n x 2^n grid on a torus; neighbours wrap, so copies of the field tile without seams. */
+typedef enum frt_edge { FRT_EDGE_DEFAULT = 0, FRT_EDGE_FFC = 1, FRT_EDGE_PERIODIC = 2 } frt_edge;
 
 typedef enum frt_backend {
     FRT_BACKEND_DEFAULT = 0, /* auto: Vulkan if a device exists, else CPU */
@@ -65,8 +67,11 @@ typedef struct frt_terrain_desc {
  * Returns FRT_ERROR_INVALID_ARGUMENT (leaving `out` filled as far as possible) if a value is out of range. */
 frt_result frt_terrain_desc_resolved(const frt_terrain_desc *in, frt_terrain_desc *out);
 
-/* Grid side 2^levels + 1, or 0 if levels is 0 or > FRT_MAX_LEVELS (no defaults applied). */
+/* Grid side 2^levels + 1 (the FFC grid), or 0 if levels is 0 or > FRT_MAX_LEVELS (no defaults applied). */
 uint32_t frt_grid_side(uint32_t levels);
+
+/* Side of the field `desc` describes, defaults applied: 2^n + 1 (FFC) or 2^n (periodic); 0 if `desc` is invalid. */
+uint32_t frt_terrain_side(const frt_terrain_desc *desc);
 
 /* Number of floats a heightfield for `desc` needs (defaults applied), or 0 if `desc` is invalid.
  * The product is checked against SIZE_MAX; allocates nothing. */

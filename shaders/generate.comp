@@ -30,12 +30,17 @@ layout(push_constant, std430) uniform Push {
     uvec2 key;     // (seed & 0xffffffff, seed >> 32)
     float amp_d;   // sD(l); at level 0, sigma
     float amp_s;   // sS(l)
+    uint mask;     // periodic (a torus, §3.1): side - 1, coordinates wrap; FFC: all ones, a no-op
+    uint lmask;    // periodic: 2^l - 1, noise lattice coordinates wrap; FFC: all ones
 } pc;
 
-// Grids up to 32769^2 keep every index below 2^31 (the host checks), so a 32-bit index is enough.
-int at(uint x, uint y) { return int(y * pc.side + x); }
+bool periodic() { return pc.mask != 0xFFFFFFFFu; }
 
-float noise(uint i, uint j) { return frt_noise(pc.level, i, j, pc.key); }
+// Grids up to 32769^2 keep every index below 2^31 (the host checks), so a 32-bit index is enough.
+// Unsigned arithmetic wraps mod 2^32, a multiple of the periodic side, so (x - s) & mask is x - s mod side.
+int at(uint x, uint y) { return int((y & pc.mask) * pc.side + (x & pc.mask)); }
+
+float noise(uint i, uint j) { return frt_noise(pc.level, i & pc.lmask, j & pc.lmask, pc.key); }
 
 float displace(float mean, float amp, uint i, uint j)
 {
@@ -61,7 +66,8 @@ void main()
     Heights h = Heights(pc.grid);
     if (pc.level == 0u) {
         uvec2 ij = gl_GlobalInvocationID.xy;
-        if (ij.x < 2u && ij.y < 2u) {
+        const uint corners = periodic() ? 1u : 2u; // periodic: the single point (0, 0)
+        if (ij.x < corners && ij.y < corners) {
             precise float v = pc.amp_d * noise(ij.x, ij.y);
             h.v[at(ij.x * (pc.side - 1u), ij.y * (pc.side - 1u))] = v;
         }
@@ -83,8 +89,9 @@ void main()
             ctr[r][q] = displace(mean4(cor[r][q], cor[r][q + 1], cor[r + 1][q], cor[r + 1][q + 1]), pc.amp_d,
                                  2u * (cx0 + q) + 1u, 2u * (cy0 + r) + 1u);
 
-    // Centres of the neighbouring cells above and to the left, recomputed (they exist unless on the border).
-    const bool has_up = cy0 > 0u, has_left = cx0 > 0u;
+    // Centres of the neighbouring cells above and to the left, recomputed (they exist unless on an FFC border;
+    // in periodic mode the row above row 0 is the last row, through `at` and `noise` wrapping).
+    const bool has_up = cy0 > 0u || periodic(), has_left = cx0 > 0u || periodic();
     float up[BLOCK], left[BLOCK];
     if (has_up) {
         float a[BLOCK + 1];
@@ -128,6 +135,8 @@ void main()
             h.v[at(i * s, (j + 1u) * s)] = displace(lm, pc.amp_s, i, j + 1u);
         }
     }
+    if (periodic())
+        return; // the bottom and right edges are the top and left ones of the cells on the other side
     if (cy0 + BLOCK == C) { // bottom border midpoints: W, E, N exist
         for (uint q = 0; q < BLOCK; ++q) {
             const uint i = 2u * (cx0 + q) + 1u;

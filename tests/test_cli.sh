@@ -129,6 +129,13 @@ assert v[1, 0] == 2 and v[0, 1] == 64 * 3 and v[-1, 1] == 0                     
 PYEOF
 fi
 
+# ---- periodic edge ----
+"$BIN" generate --levels 5 --edge periodic --seed 3 -q -o "$T/per.f32" && ok || bad "periodic"
+check '[ "$(stat -c %s "$T/per.f32")" = $((32 * 32 * 4)) ] && grep -Eq "\"edge\": ?\"periodic\"" "$T/per.f32.json"' "periodic: 32 x 32, recorded in the sidecar"
+"$BIN" generate --levels 5 --edge periodic --seed 3 -q --backend cpu -o "$T/per_cpu.f32" && cmp -s "$T/per.f32" "$T/per_cpu.f32" && ok || bad "periodic: the default backend and the CPU give the same bytes"
+"$BIN" generate --levels 5 --edge periodic -q --frames "$T/per_frames" && [ "$(ls "$T/per_frames" | wc -l)" = 6 ] && ok || bad "periodic growth frames"
+expect_fail 2 "edge" generate --levels 5 --edge wrap -o "$T/out.png"
+
 # ---- render ----
 "$BIN" render "$T/m.pgm" -o "$T/r_hs.png" 2> "$T/err" && ok || bad "render hillshade: $(cat "$T/err")"
 check '[ "$(od -An -tu1 -j24 -N2 "$T/r_hs.png" | tr -s " ")" = " 8 0" ]' "hillshade: 8-bit grey"

@@ -164,6 +164,31 @@ static void test_external_device(void)
     vkDestroyInstance(inst, NULL);
 }
 
+/* Periodic mode (ALGORITHM.md §3.1) on the device: bit-identical to the CPU, for both shader variants (B = 4 runs
+ * from level 6), and the wrap is really there (row 0's neighbour above is the last row). */
+static void test_periodic(frt_context *ctx)
+{
+    const uint32_t levels[] = {1, 2, 3, 6, 9, 10};
+    for (size_t k = 0; k < sizeof levels / sizeof levels[0]; ++k) {
+        frt_terrain_desc d = {0};
+        d.levels = levels[k], d.hurst = 0.6, d.sigma = -1.5, d.seed = 40 + k, d.edge = FRT_EDGE_PERIODIC;
+        size_t count = frt_heightfield_size(&d);
+        uint32_t side = frt_terrain_side(&d);
+        CHECK(side == 1u << levels[k] && count == (size_t)side * side, "periodic side %u", side);
+        float *gpu = check_alloc(count * sizeof(float)), *cpu = check_alloc(count * sizeof(float));
+        CHECK(frt_generate(ctx, &d, gpu, count, NULL) == FRT_SUCCESS, "periodic %u: %s", levels[k],
+              frt_context_error(ctx));
+        CHECK(frt_generate_cpu(&d, cpu, count, NULL) == FRT_SUCCESS, "periodic cpu");
+        size_t differ = 0;
+        for (size_t i = 0; i < count; ++i)
+            differ += memcmp(&gpu[i], &cpu[i], 4) != 0;
+        CHECK(differ == 0, "periodic levels %u: %zu of %zu points differ between vulkan and cpu", levels[k], differ,
+              count);
+        printf("periodic levels %2u vk vs cpu: %zu of %zu points differ\n", levels[k], differ, count);
+        free(gpu), free(cpu);
+    }
+}
+
 int main(void)
 {
     frt_context *ctx = check_context();
@@ -179,6 +204,7 @@ int main(void)
         differ += compare(ctx, cases[i], cases[i].levels == 10);
     printf("vk vs cpu over %zu grids: %zu points differ (bit-identical required)\n", ncases, differ);
     test_exact(ctx);
+    test_periodic(ctx);
     test_large(ctx);
 
     check_context_done(ctx);
