@@ -89,10 +89,7 @@ float frt_sigma_square(const frt_terrain_desc *r, uint32_t level)
 
 float frt_one_third(void)
 {
-    uint32_t bits = FRT_ONE_THIRD_BITS;
-    float f;
-    memcpy(&f, &bits, sizeof f);
-    return f;
+    return frt_bits_float(FRT_ONE_THIRD_BITS);
 }
 
 double frt_now_seconds(void)

@@ -6,6 +6,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 /* ---- philox.c: the noise contract (docs/ALGORITHM.md §2) ---- */
 typedef struct frt_u32x4 {
@@ -24,6 +25,19 @@ float frt_sqrt_nr(float x);
 float frt_cos_2pi(float v);
 /* g(level, i, j) for the key derived from `seed`. */
 float frt_noise(uint64_t seed, uint32_t level, uint32_t i, uint32_t j);
+/* Exact reinterpretation between a float and its bit pattern (GLSL floatBitsToUint / uintBitsToFloat). */
+static inline uint32_t frt_float_bits(float x)
+{
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+static inline float frt_bits_float(uint32_t b)
+{
+    float x;
+    memcpy(&x, &b, sizeof x);
+    return x;
+}
 
 /* ---- desc.c ---- */
 /* Per-level amplitudes sD(l), sS(l) computed in double and rounded once to float (§3). */

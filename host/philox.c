@@ -63,28 +63,14 @@ frt_u32x4 frt_philox4x32_10(frt_u32x4 c, uint32_t k0, uint32_t k1)
 #define S2 0x1.4680a4p-4f
 #define S3 (-0x1.33198ep-8f)
 
-static uint32_t float_bits(float x)
-{
-    uint32_t b;
-    memcpy(&b, &x, sizeof b);
-    return b;
-}
-
-static float bits_float(uint32_t b)
-{
-    float x;
-    memcpy(&x, &b, sizeof x);
-    return x;
-}
-
 /* §2.3: -2 ln u for u in [2^-33, 1]. u = 2^e * m with m in (0.5, 1] from the bits (exact), f = m - 1 (exact),
  * Q(f) by Estrin's scheme (short dependency chains: the noise is latency-bound on lavapipe), and -e * 2 ln 2 from
  * a 17-bit head (exact product) and a tail. The terms do not cancel: -2f >= 0 and f^2 Q(f) <= 0 is smaller. */
 float frt_neg2_ln(float u)
 {
-    const uint32_t b = float_bits(u);
+    const uint32_t b = frt_float_bits(u);
     const uint32_t eb = (b - 1u) & 0xFF800000u; /* exponent field of the binade (0.5, 1] * 2^e holding u */
-    const float m = bits_float(b - eb + 0x3F000000u);
+    const float m = frt_bits_float(b - eb + 0x3F000000u);
     const float k = (float)(126 - (int32_t)(eb >> 23)); /* -e, 0..33 */
     const float f = m - 1.0f;
     const float f2 = f * f;
@@ -104,8 +90,8 @@ float frt_neg2_ln(float u)
  * residual correction. x = 0 gives +0. */
 float frt_sqrt_nr(float x)
 {
-    const uint32_t bx = float_bits(x);
-    float y = bits_float(0x5F3759DFu - ((bx > 0x2B800000u ? bx : 0x2B800000u) >> 1));
+    const uint32_t bx = frt_float_bits(x);
+    float y = frt_bits_float(0x5F3759DFu - ((bx > 0x2B800000u ? bx : 0x2B800000u) >> 1));
     const float h = 0.5f * x;
     y = 1.5f * y - (h * y) * (y * y);
     y = 1.5f * y - (h * y) * (y * y);

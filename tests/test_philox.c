@@ -2,20 +2,6 @@
  * it can receive, its known answers, and its distribution against N(0,1). */
 #include "stats.h"
 
-static float bits_float(uint32_t b)
-{
-    float x;
-    memcpy(&x, &b, sizeof x);
-    return x;
-}
-
-static uint32_t float_bits(float x)
-{
-    uint32_t b;
-    memcpy(&b, &x, sizeof b);
-    return b;
-}
-
 /* |got - want| in units of the float32 ulp of want's binade (want computed in double). */
 static double ulps(float got, double want)
 {
@@ -54,8 +40,8 @@ static double test_transform_accuracy(void)
     size_t n = 0, bad = 0;
     const uint32_t two24 = 1u << 24, two32_bits = 0x4F800000u; /* 2^32 as a float */
     for (uint64_t i = 0;; ++i) {
-        float F = i <= two24 ? (float)i : bits_float(float_bits(0x1p24f) + (uint32_t)(i - two24));
-        if (float_bits(F) > two32_bits)
+        float F = i <= two24 ? (float)i : frt_bits_float(frt_float_bits(0x1p24f) + (uint32_t)(i - two24));
+        if (frt_float_bits(F) > two32_bits)
             break;
         ++n;
         float u = F * 0x1p-32f + 0x1p-33f, v = F * 0x1p-32f; /* §2.2 */
@@ -82,8 +68,8 @@ static double test_transform_accuracy(void)
            "sqrt(-2 ln u) %.3f ulp, cos 2 pi v %.3f ulp (v = %a); bound 2 ulp\n",
            n, e_ln, (double)at_ln, e_sqrt, e_r, e_cos, (double)at_cos);
     /* Edges: u = 1 and x = 0 give +0, and v on a quadrant boundary gives the exact value. */
-    CHECK(float_bits(frt_neg2_ln(1.0f)) == 0, "-2 ln 1 = +0");
-    CHECK(float_bits(frt_sqrt_nr(0.0f)) == 0, "sqrt 0 = +0");
+    CHECK(frt_float_bits(frt_neg2_ln(1.0f)) == 0, "-2 ln 1 = +0");
+    CHECK(frt_float_bits(frt_sqrt_nr(0.0f)) == 0, "sqrt 0 = +0");
     CHECK(frt_cos_2pi(0.0f) == 1.0f && frt_cos_2pi(0.5f) == -1.0f && frt_cos_2pi(1.0f) == 1.0f, "cos at 0, pi, 2 pi");
     CHECK(frt_cos_2pi(0.25f) == 0 && frt_cos_2pi(0.75f) == 0, "cos at pi/2, 3 pi/2");
     return (2.0 * e_r + 2.0 * e_cos + 1.0) * 0x1p-24;
@@ -129,14 +115,15 @@ int main(void)
     /* Known answers of the transform (ALGORITHM.md §2.6): the float bits every backend must give. w0 = 0 is the
      * smallest u = 2^-33 (the largest radius, sqrt(66 ln 2)); w0 = 2^32 - 1 rounds u to 1 (radius 0). */
     for (int k = 0; k < GAUSS_KAT_COUNT; ++k) {
-        uint32_t got = float_bits(frt_gauss_from_words(GAUSS_KAT[k][0], GAUSS_KAT[k][1]));
+        uint32_t got = frt_float_bits(frt_gauss_from_words(GAUSS_KAT[k][0], GAUSS_KAT[k][1]));
         CHECK(got == GAUSS_KAT[k][2], "g(%08x, %08x) = %08x (%.9g), expected %08x (%.9g)", GAUSS_KAT[k][0],
-              GAUSS_KAT[k][1], got, (double)bits_float(got), GAUSS_KAT[k][2], (double)bits_float(GAUSS_KAT[k][2]));
+              GAUSS_KAT[k][1], got, (double)frt_bits_float(got), GAUSS_KAT[k][2],
+              (double)frt_bits_float(GAUSS_KAT[k][2]));
     }
     /* g(0, i, j) for seed 1: the default terrain's corners divided by sigma. */
     const uint32_t corners[4] = {0x3ec2c3e5, 0x3f207fa8, 0x3f44c53d, 0xbd84d644};
     for (uint32_t k = 0; k < 4; ++k)
-        CHECK(float_bits(frt_noise(1, 0, k & 1u, k >> 1)) == corners[k], "g(0, %u, %u) for seed 1", k & 1u, k >> 1);
+        CHECK(frt_float_bits(frt_noise(1, 0, k & 1u, k >> 1)) == corners[k], "g(0, %u, %u) for seed 1", k & 1u, k >> 1);
     float gmax = frt_gauss_from_words(0, 0);
     CHECK(fabs(gmax - sqrt(66.0 * log(2.0))) < 1e-6, "g(0,0) = %.9g", (double)gmax);
 

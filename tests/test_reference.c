@@ -2,15 +2,25 @@
  * statistics, and the Hurst exponent recovered from the variogram. */
 #include "stats.h"
 
-static float *gen(uint32_t levels, double hurst, double sigma, uint64_t seed)
+static float *gen_edge(uint32_t levels, double hurst, double sigma, uint64_t seed, frt_edge edge)
 {
     frt_terrain_desc d = {0};
-    d.levels = levels, d.hurst = hurst, d.sigma = sigma, d.seed = seed, d.seed_is_explicit = true;
+    d.levels = levels, d.hurst = hurst, d.sigma = sigma, d.seed = seed, d.seed_is_explicit = true, d.edge = edge;
     size_t count = frt_heightfield_size(&d);
     float *h = check_alloc(count * sizeof *h);
     frt_result r = frt_generate_cpu(&d, h, count, NULL);
     CHECK(r == FRT_SUCCESS, "generate_cpu: %s", frt_result_string(r));
     return h;
+}
+
+static float *gen(uint32_t levels, double hurst, double sigma, uint64_t seed)
+{
+    return gen_edge(levels, hurst, sigma, seed, FRT_EDGE_FFC);
+}
+
+static float *gen_periodic(uint32_t levels, double hurst, double sigma, uint64_t seed)
+{
+    return gen_edge(levels, hurst, sigma, seed, FRT_EDGE_PERIODIC);
 }
 
 static void test_desc(void)
@@ -158,18 +168,6 @@ static void test_hurst_estimate(void)
         printf("variogram H: true %.1f, estimated %.3f\n", hs[k], est[k]);
     }
     CHECK(est[0] < est[1] && est[1] < est[2], "estimates monotone in H: %.3f %.3f %.3f", est[0], est[1], est[2]);
-}
-
-static float *gen_periodic(uint32_t levels, double hurst, double sigma, uint64_t seed)
-{
-    frt_terrain_desc d = {0};
-    d.levels = levels, d.hurst = hurst, d.sigma = sigma, d.seed = seed, d.seed_is_explicit = true;
-    d.edge = FRT_EDGE_PERIODIC;
-    size_t count = frt_heightfield_size(&d);
-    float *h = check_alloc(count * sizeof *h);
-    frt_result r = frt_generate_cpu(&d, h, count, NULL);
-    CHECK(r == FRT_SUCCESS, "generate_cpu periodic: %s", frt_result_string(r));
-    return h;
 }
 
 /* Periodic mode (ALGORITHM.md §3.1): sizes, the contract at single points, resolution independence, and the seam. */
