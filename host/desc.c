@@ -24,10 +24,12 @@ const char *frt_result_string(frt_result r)
 
 uint32_t frt_grid_side(uint32_t levels)
 {
-    if (levels == 0 || levels > FRT_MAX_LEVELS)
+    if (levels == 0 || levels > FRT_MAX_REGION_LEVELS)
         return 0;
     return (1u << levels) + 1u;
 }
+
+static frt_result check_resolved(const frt_terrain_desc *d, char *why, size_t why_size);
 
 frt_result frt_terrain_desc_resolved(const frt_terrain_desc *in, frt_terrain_desc *out)
 {
@@ -49,15 +51,111 @@ frt_result frt_terrain_desc_resolved(const frt_terrain_desc *in, frt_terrain_des
         d.edge = FRT_EDGE_FFC;
     if (out)
         *out = d;
-    if (d.levels > FRT_MAX_LEVELS)
-        return FRT_ERROR_INVALID_ARGUMENT;
+    return check_resolved(&d, NULL, 0);
+}
+
+frt_result frt_terrain_desc_check(const frt_terrain_desc *desc, char *why, size_t why_size)
+{
+    frt_terrain_desc d;
+    frt_terrain_desc_resolved(desc, &d);
+    return check_resolved(&d, why, why_size);
+}
+
+static frt_result check_resolved(const frt_terrain_desc *dp, char *why, size_t why_size)
+{
+    const frt_terrain_desc d = *dp;
+    const frt_region g = d.region;
+    const bool has_region = g.width != 0 || g.height != 0 || g.x != 0 || g.y != 0;
+    if (why && why_size)
+        why[0] = '\0';
+#define BAD(...)                                                                                                       \
+    do {                                                                                                               \
+        if (why && why_size)                                                                                           \
+            snprintf(why, why_size, __VA_ARGS__);                                                                      \
+        return FRT_ERROR_INVALID_ARGUMENT;                                                                             \
+    } while (0)
+    if (d.levels > FRT_MAX_REGION_LEVELS)
+        BAD("%u levels: at most %u", d.levels, FRT_MAX_REGION_LEVELS);
+    if (d.levels > FRT_MAX_LEVELS && !has_region)
+        BAD("%u levels: a whole grid has at most %u; more need a region", d.levels, FRT_MAX_LEVELS);
     if (!(d.hurst > 0.0 && d.hurst < 1.0)) /* also rejects NaN */
-        return FRT_ERROR_INVALID_ARGUMENT;
+        BAD("hurst %g: must lie in (0, 1)", d.hurst);
     if (!isfinite(d.sigma) || fabs(d.sigma) > 1e30) /* keeps every height finite in float32 */
-        return FRT_ERROR_INVALID_ARGUMENT;
+        BAD("sigma %g: must be finite and at most 1e30 in magnitude", d.sigma);
     if (d.edge != FRT_EDGE_FFC && d.edge != FRT_EDGE_PERIODIC)
-        return FRT_ERROR_INVALID_ARGUMENT;
+        BAD("unknown edge mode %d", (int)d.edge);
+    if (has_region) {
+        const uint64_t side = (uint64_t)frt_grid_side(d.levels) - (d.edge == FRT_EDGE_PERIODIC ? 1u : 0u);
+        if (g.width == 0 || g.height == 0)
+            BAD("region %u x %u: width and height must both be at least 1", g.width, g.height);
+        if (d.edge == FRT_EDGE_PERIODIC) {
+            if (g.x >= side || g.y >= side)
+                BAD("region origin (%u, %u) lies outside the %llu x %llu periodic grid", g.x, g.y,
+                    (unsigned long long)side, (unsigned long long)side);
+            if (g.width > FRT_REGION_MAX_SIDE || g.height > FRT_REGION_MAX_SIDE)
+                BAD("region %u x %u: a side is larger than %u", g.width, g.height, FRT_REGION_MAX_SIDE);
+        } else if ((uint64_t)g.x + g.width > side || (uint64_t)g.y + g.height > side) {
+            BAD("region %u,%u %u x %u reaches outside the %llu x %llu grid", g.x, g.y, g.width, g.height,
+                (unsigned long long)side, (unsigned long long)side);
+        }
+    }
+#undef BAD
     return FRT_SUCCESS;
+}
+
+frt_result frt_terrain_extent(const frt_terrain_desc *desc, uint32_t *width, uint32_t *height)
+{
+    frt_terrain_desc d;
+    uint32_t w = 0, h = 0;
+    frt_result r = frt_terrain_desc_resolved(desc, &d);
+    if (r == FRT_SUCCESS) {
+        if (frt_region_is_set(&d.region)) {
+            w = d.region.width;
+            h = d.region.height;
+        } else {
+            w = h = frt_terrain_side(&d);
+        }
+    }
+    if (width)
+        *width = w;
+    if (height)
+        *height = h;
+    return r;
+}
+
+bool frt_region_is_set(const frt_region *g)
+{
+    return g->x || g->y || g->width || g->height;
+}
+
+/* Lattice boxes, finest first: level l's box holds the level-l lattice points (coordinates x / 2^(n-l)) that
+ * level l + 1 reads. A level-l point at lattice x reads level l-1 at floor((x-1)/2) .. floor(x/2) + 1 (a copied
+ * point its parent, a diamond its four corners, a square point its corners and the two recomputed diamonds). */
+void frt_region_boxes(const frt_terrain_desc *d, frt_box *boxes)
+{
+    const bool periodic = d->edge == FRT_EDGE_PERIODIC;
+    int64_t x0 = d->region.x, y0 = d->region.y;
+    int64_t x1 = x0 + d->region.width - 1, y1 = y0 + d->region.height - 1;
+    for (uint32_t l = d->levels;; --l) {
+        boxes[l].x = x0;
+        boxes[l].y = y0;
+        boxes[l].width = (uint32_t)(x1 - x0 + 1);
+        boxes[l].height = (uint32_t)(y1 - y0 + 1);
+        if (l == 0)
+            break;
+        /* floor division of possibly negative (periodic) coordinates */
+        x0 = (x0 - 1) >> 1;
+        y0 = (y0 - 1) >> 1;
+        x1 = (x1 >> 1) + 1;
+        y1 = (y1 >> 1) + 1;
+        if (!periodic) { /* the FFC lattice at level l - 1 is 0 .. 2^(l-1) */
+            const int64_t last = (int64_t)1 << (l - 1);
+            x0 = x0 < 0 ? 0 : x0;
+            y0 = y0 < 0 ? 0 : y0;
+            x1 = x1 > last ? last : x1;
+            y1 = y1 > last ? last : y1;
+        }
+    }
 }
 
 uint32_t frt_terrain_side(const frt_terrain_desc *desc)
@@ -71,10 +169,10 @@ uint32_t frt_terrain_side(const frt_terrain_desc *desc)
 
 size_t frt_heightfield_size(const frt_terrain_desc *desc)
 {
-    size_t side = frt_terrain_side(desc);
-    if (side == 0 || side > SIZE_MAX / side)
+    uint32_t w, h;
+    if (frt_terrain_extent(desc, &w, &h) != FRT_SUCCESS || w == 0 || h == 0 || (size_t)w > SIZE_MAX / h)
         return 0;
-    return side * side;
+    return (size_t)w * h;
 }
 
 float frt_sigma_diamond(const frt_terrain_desc *r, uint32_t level)

@@ -40,6 +40,17 @@ static inline float frt_bits_float(uint32_t b)
 }
 
 /* ---- desc.c ---- */
+bool frt_region_is_set(const frt_region *region);
+/* Largest side of a periodic region (so that lattice coordinates stay below 2^31). */
+#define FRT_REGION_MAX_SIDE (1u << 30)
+/* A box of lattice points at one level: columns x .. x+width-1, rows y .. y+height-1 of that level's lattice
+ * (coordinate = grid coordinate / 2^(n-l)). Periodic boxes may start at -1 and run past the lattice: they wrap. */
+typedef struct frt_box {
+    int64_t x, y;
+    uint32_t width, height;
+} frt_box;
+/* The boxes a region needs at levels 0..n (boxes[n] is the region itself); `boxes` holds levels + 1 entries. */
+void frt_region_boxes(const frt_terrain_desc *resolved, frt_box *boxes);
 /* Per-level amplitudes sD(l), sS(l) computed in double and rounded once to float (§3). */
 float frt_sigma_diamond(const frt_terrain_desc *resolved, uint32_t level);
 float frt_sigma_square(const frt_terrain_desc *resolved, uint32_t level);
@@ -98,6 +109,8 @@ struct frt_context {
     /* generate_vk.c: pipelines (made on first use) and the grid buffer, kept for reuse */
     VkPipelineLayout gen_layout;
     VkPipeline gen_pipeline[2]; /* [0]: one cell per invocation, [1]: a block of cells */
+    VkPipelineLayout region_layout;
+    VkPipeline region_pipeline; /* regions: one lattice point per invocation */
     struct frt_vk_buffer grid;
     struct frt_vk_buffer staging;
     /* noise_vk.c */

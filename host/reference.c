@@ -2,6 +2,7 @@
  * Single-threaded and unoptimised on purpose: it is the yardstick every backend is tested against. */
 #include "internal.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 /* Mean of the existing neighbours W, E, N, S of square point (x, y) at spacing s, in the contract's order. */
@@ -47,6 +48,113 @@ static void generate_periodic(const frt_terrain_desc *d, float *out)
 #undef P
 }
 
+/* ---- Regions (§3.2): level by level, only the lattice boxes the window needs ---- */
+
+/* One level of a region: the level-l points of box `db` from the level-(l-1) points of box `sb`. */
+typedef struct region_level {
+    const frt_terrain_desc *d;
+    uint32_t level;
+    const float *src;
+    frt_box sb;
+    int64_t last;   /* FFC: the lattice is 0 .. last = 2^l */
+    uint32_t lmask; /* periodic: lattice coordinates mod 2^l */
+    bool periodic;
+    float sd, ss;
+} region_level;
+
+static float parent(const region_level *r, int64_t a, int64_t b) /* a, b even: the level-(l-1) point */
+{
+    return r->src[(size_t)((b >> 1) - r->sb.y) * r->sb.width + (size_t)((a >> 1) - r->sb.x)];
+}
+
+static float region_noise(const region_level *r, int64_t a, int64_t b)
+{
+    uint32_t i = (uint32_t)a, j = (uint32_t)b; /* two's complement: -1 -> 2^32 - 1, then masked */
+    if (r->periodic) {
+        i &= r->lmask;
+        j &= r->lmask;
+    }
+    return frt_noise(r->d->seed, r->level, i, j);
+}
+
+static float diamond(const region_level *r, int64_t a, int64_t b) /* a, b odd */
+{
+    float mean =
+        ((parent(r, a - 1, b - 1) + parent(r, a + 1, b - 1)) + (parent(r, a - 1, b + 1) + parent(r, a + 1, b + 1))) *
+        0.25f;
+    return mean + r->sd * region_noise(r, a, b);
+}
+
+static float corner_or_diamond(const region_level *r, int64_t a, int64_t b)
+{
+    return (a & 1) ? diamond(r, a, b) : parent(r, a, b);
+}
+
+static float square(const region_level *r, int64_t a, int64_t b) /* exactly one of a, b odd */
+{
+    float nb[4];
+    int n = 0;
+    if (r->periodic || a - 1 >= 0)
+        nb[n++] = corner_or_diamond(r, a - 1, b); /* W */
+    if (r->periodic || a + 1 <= r->last)
+        nb[n++] = corner_or_diamond(r, a + 1, b); /* E */
+    if (r->periodic || b - 1 >= 0)
+        nb[n++] = corner_or_diamond(r, a, b - 1); /* N */
+    if (r->periodic || b + 1 <= r->last)
+        nb[n++] = corner_or_diamond(r, a, b + 1); /* S */
+    float mean = n == 4 ? ((nb[0] + nb[1]) + (nb[2] + nb[3])) * 0.25f : ((nb[0] + nb[1]) + nb[2]) * frt_one_third();
+    return mean + r->ss * region_noise(r, a, b);
+}
+
+static frt_result generate_region(const frt_terrain_desc *d, float *out)
+{
+    frt_box boxes[FRT_MAX_REGION_LEVELS + 1];
+    frt_region_boxes(d, boxes);
+    const uint32_t n = d->levels;
+    size_t scratch = 0;
+    for (uint32_t l = 0; l < n; ++l) {
+        size_t area = (size_t)boxes[l].width * boxes[l].height;
+        scratch = area > scratch ? area : scratch;
+    }
+    float *buf = malloc(2 * scratch * sizeof *buf);
+    if (!buf)
+        return FRT_ERROR_OUT_OF_MEMORY;
+    const bool periodic = d->edge == FRT_EDGE_PERIODIC;
+    for (uint32_t l = 0; l <= n; ++l) {
+        const frt_box db = boxes[l];
+        float *dst = l == n ? out : buf + (l & 1) * scratch;
+        region_level r = {d,
+                          l,
+                          buf + ((l + 1) & 1) * scratch,
+                          l ? boxes[l - 1] : db,
+                          (int64_t)1 << l,
+                          (uint32_t)(((uint64_t)1 << l) - 1),
+                          periodic,
+                          0.0f,
+                          0.0f};
+        if (l) {
+            r.sd = frt_sigma_diamond(d, l);
+            r.ss = frt_sigma_square(d, l);
+        }
+        for (uint32_t y = 0; y < db.height; ++y)
+            for (uint32_t x = 0; x < db.width; ++x) {
+                const int64_t a = db.x + x, b = db.y + y;
+                float v;
+                if (l == 0) /* FFC: a corner (a, b in 0..1); periodic: every point is (0, 0) */
+                    v = (float)d->sigma * region_noise(&r, a, b);
+                else if (!(a & 1) && !(b & 1))
+                    v = parent(&r, a, b);
+                else if ((a & 1) && (b & 1))
+                    v = diamond(&r, a, b);
+                else
+                    v = square(&r, a, b);
+                dst[(size_t)y * db.width + x] = v;
+            }
+    }
+    free(buf);
+    return FRT_SUCCESS;
+}
+
 frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out_count, frt_run_info *info)
 {
     double t0 = frt_now_seconds();
@@ -59,6 +167,12 @@ frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out
     if (!out || out_count < count)
         return FRT_ERROR_BUFFER_TOO_SMALL;
 
+    if (frt_region_is_set(&d.region)) {
+        frt_result r = generate_region(&d, out);
+        if (r != FRT_SUCCESS)
+            return r;
+        goto done;
+    }
     const uint32_t n = d.levels, side = frt_grid_side(n), full = side - 1;
     const float sigma = (float)d.sigma;
     memset(out, 0, count * sizeof *out);

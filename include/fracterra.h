@@ -23,7 +23,8 @@ extern "C" {
 #define FRT_DEFAULT_HURST 0.8
 #define FRT_DEFAULT_SIGMA 1.0
 #define FRT_DEFAULT_SEED 1u
-#define FRT_MAX_LEVELS 15u /* 32769^2 floats = 4 GiB; devices may allow less */
+#define FRT_MAX_LEVELS 15u /* whole grids: 32769^2 floats = 4 GiB; devices may allow less */
+#define FRT_MAX_REGION_LEVELS 30u /* a region (window) of a virtual grid of side 2^30 + 1 */
 
 /* Results. 0 is success; the others are grouped by kind (tens digit). */
 typedef enum frt_result {
@@ -54,27 +55,48 @@ typedef enum frt_backend {
 } frt_backend;
 
 /* What to generate. Zero-initialise, then set what you need: every zero field means its default. */
+/* A window of the virtual grid: columns x .. x+width-1, rows y .. y+height-1 (docs/ALGORITHM.md §3.2).
+ * All zero: the whole grid. Only the ancestors the window needs are computed, so a region may come from a grid
+ * of up to FRT_MAX_REGION_LEVELS levels, and it equals, bit for bit, the same window of the whole grid.
+ * FFC: the window lies inside the (2^n+1)^2 grid. Periodic: x, y < 2^n, and the window wraps around the torus
+ * (width and height at most 2^30), so a tile may repeat the first column after the last. */
+typedef struct frt_region {
+    uint32_t x, y;
+    uint32_t width, height;
+} frt_region;
+
 typedef struct frt_terrain_desc {
-    uint32_t levels;       /* n: grid side is 2^n + 1; 0 -> 9; valid 1..FRT_MAX_LEVELS */
+    uint32_t levels;       /* n: grid side is 2^n + 1; 0 -> 9; valid 1..FRT_MAX_LEVELS, or ..FRT_MAX_REGION_LEVELS
+                              with a region */
     double hurst;          /* H in (0,1); 0 -> 0.8. Fractal dimension D = 3 - H */
     double sigma;          /* amplitude, any non-zero real (negative inverts peaks/valleys); 0 -> 1 */
     uint64_t seed;         /* Philox key; 0 -> 1 unless seed_is_explicit */
     bool seed_is_explicit; /* true: use `seed` as given, even 0 */
     frt_edge edge;         /* 0 -> FRT_EDGE_FFC */
+    frt_region region;     /* all zero -> the whole grid */
 } frt_terrain_desc;
 
 /* Fills `out` with `in` (NULL = all defaults) with every default made explicit, and checks ranges.
  * Returns FRT_ERROR_INVALID_ARGUMENT (leaving `out` filled as far as possible) if a value is out of range. */
 frt_result frt_terrain_desc_resolved(const frt_terrain_desc *in, frt_terrain_desc *out);
 
-/* Grid side 2^levels + 1 (the FFC grid), or 0 if levels is 0 or > FRT_MAX_LEVELS (no defaults applied). */
+/* The same checks, with defaults applied; on failure a one-line reason ("region 0 x 5: width and height must
+ * both be at least 1") is written to `why` (may be NULL). */
+frt_result frt_terrain_desc_check(const frt_terrain_desc *desc, char *why, size_t why_size);
+
+/* Grid side 2^levels + 1 (the FFC grid), or 0 if levels is 0 or > FRT_MAX_REGION_LEVELS (no defaults applied). */
 uint32_t frt_grid_side(uint32_t levels);
 
-/* Side of the field `desc` describes, defaults applied: 2^n + 1 (FFC) or 2^n (periodic); 0 if `desc` is invalid. */
+/* Side of the whole (virtual) grid `desc` describes, defaults applied: 2^n + 1 (FFC) or 2^n (periodic); 0 if
+ * `desc` is invalid. With a region this is the side of the grid the window is cut from, not of the output. */
 uint32_t frt_terrain_side(const frt_terrain_desc *desc);
 
-/* Number of floats a heightfield for `desc` needs (defaults applied), or 0 if `desc` is invalid.
- * The product is checked against SIZE_MAX; allocates nothing. */
+/* Width and height of the heightfield a generator writes for `desc`: the region's, or the whole grid's.
+ * FRT_ERROR_INVALID_ARGUMENT (and 0 x 0) if `desc` is invalid. Either pointer may be NULL. */
+frt_result frt_terrain_extent(const frt_terrain_desc *desc, uint32_t *width, uint32_t *height);
+
+/* Number of floats a heightfield for `desc` needs (defaults applied): width * height of frt_terrain_extent,
+ * or 0 if `desc` is invalid. The product is checked against SIZE_MAX; allocates nothing. */
 size_t frt_heightfield_size(const frt_terrain_desc *desc);
 
 /* Optional figures from a generation run. */
@@ -85,7 +107,8 @@ typedef struct frt_run_info {
 } frt_run_info;
 
 /* CPU reference: single-threaded, plain C, the yardstick for every backend. Writes exactly
- * frt_heightfield_size(desc) floats, row-major h[y*M + x], into `out`; never writes outside it.
+ * frt_heightfield_size(desc) floats, row-major h[y*width + x] (frt_terrain_extent), into `out`; never writes
+ * outside it.
  * `info` may be NULL. */
 frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out_count, frt_run_info *info);
 
@@ -147,7 +170,7 @@ const char *frt_context_error(const frt_context *ctx);
 uint32_t frt_context_validation_messages(const frt_context *ctx);
 
 /* Generates on the context's device: one compute dispatch per refinement level, recorded in one command
- * buffer, then reads the field back into `out` (frt_heightfield_size(desc) floats, row-major). Never
+ * buffer, then reads the field (or the region) back into `out` (frt_heightfield_size(desc) floats, row-major). Never
  * writes outside `out`. FRT_ERROR_TOO_LARGE when the grid exceeds the device's allocation or heap size.
  * `info` may be NULL. */
 frt_result frt_generate(frt_context *ctx, const frt_terrain_desc *desc, float *out, size_t out_count,

@@ -11,6 +11,7 @@
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
+#include "midpoint.glsl"
 #include "philox.glsl"
 
 #ifndef BLOCK
@@ -42,24 +43,9 @@ int at(uint x, uint y) { return int((y & pc.mask) * pc.side + (x & pc.mask)); }
 
 float noise(uint i, uint j) { return frt_noise(pc.level, i & pc.lmask, j & pc.lmask, pc.key); }
 
-float displace(float mean, float amp, uint i, uint j)
-{
-    precise float d = amp * noise(i, j);
-    precise float r = mean + d;
-    return r;
-}
-float mean4(float a, float b, float c, float d)
-{
-    precise float s = (a + b) + (c + d);
-    precise float m = s * 0.25;
-    return m;
-}
-float mean3(float a, float b, float c)
-{
-    precise float s = (a + b) + c;
-    precise float m = s * uintBitsToFloat(0x3EAAAAABu); // float nearest 1/3
-    return m;
-}
+float displace(float mean, float amp, uint i, uint j) { return frt_displace(mean, amp, noise(i, j)); }
+float mean4(float a, float b, float c, float d) { return frt_mean4(a, b, c, d); }
+float mean3(float a, float b, float c) { return frt_mean3(a, b, c); }
 
 void main()
 {

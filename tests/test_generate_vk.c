@@ -189,6 +189,94 @@ static void test_periodic(frt_context *ctx)
     }
 }
 
+/* A region on the device and on the CPU; both NULL-free on success. */
+static bool region_both(frt_context *ctx, frt_terrain_desc d, float **gpu, float **cpu, frt_run_info *info)
+{
+    size_t count = frt_heightfield_size(&d);
+    *gpu = check_alloc((count ? count : 1) * sizeof(float));
+    *cpu = check_alloc((count ? count : 1) * sizeof(float));
+    frt_result r = frt_generate(ctx, &d, *gpu, count, info);
+    CHECK(r == FRT_SUCCESS, "region %u,%u %ux%u at n=%u: %s", d.region.x, d.region.y, d.region.width, d.region.height,
+          d.levels, frt_context_error(ctx));
+    return r == FRT_SUCCESS && count && frt_generate_cpu(&d, *cpu, count, NULL) == FRT_SUCCESS;
+}
+
+/* §3.2 on the device: a region equals the crop of the whole device grid and the CPU region, bit for bit. */
+static void test_regions(frt_context *ctx)
+{
+    uint64_t st = 7;
+    for (int periodic = 0; periodic <= 1; ++periodic) {
+        const uint32_t levels[] = {1, 3, 7, 12};
+        for (size_t k = 0; k < sizeof levels / sizeof levels[0]; ++k) {
+            frt_terrain_desc d = {0};
+            d.levels = levels[k], d.hurst = 0.55, d.sigma = 2.0, d.seed = 300 + k;
+            d.edge = periodic ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
+            const uint32_t M = frt_terrain_side(&d);
+            size_t count = frt_heightfield_size(&d);
+            float *full = check_alloc(count * sizeof(float));
+            CHECK(frt_generate(ctx, &d, full, count, NULL) == FRT_SUCCESS, "%s", frt_context_error(ctx));
+            int bad = 0, windows = periodic || levels[k] < 12 ? 30 : 20;
+            for (int t = 0; t < windows; ++t) {
+                uint32_t w, h, x0, y0;
+                if (t < 4) { /* a corner square, then the whole grid */
+                    w = h = t == 3 ? M : (M < 5 ? M : 5);
+                    x0 = (t & 1) ? M - w : 0, y0 = (t & 2) ? M - h : 0;
+                    if (t == 3)
+                        x0 = y0 = 0;
+                } else {
+                    st = st * 6364136223846793005ull + 1442695040888963407ull;
+                    w = 1 + (uint32_t)(st >> 33) % (M < 300 ? M : 300);
+                    st = st * 6364136223846793005ull + 1442695040888963407ull;
+                    h = 1 + (uint32_t)(st >> 33) % (M < 300 ? M : 300);
+                    st = st * 6364136223846793005ull + 1442695040888963407ull;
+                    x0 = (uint32_t)(st >> 33) % (periodic ? M : M - w + 1);
+                    st = st * 6364136223846793005ull + 1442695040888963407ull;
+                    y0 = (uint32_t)(st >> 33) % (periodic ? M : M - h + 1);
+                }
+                d.region = (frt_region){x0, y0, w, h};
+                float *gpu, *cpu;
+                frt_run_info info = {0};
+                bool ok = region_both(ctx, d, &gpu, &cpu, &info) && info.dispatches == levels[k] + 1 &&
+                          memcmp(gpu, cpu, (size_t)w * h * sizeof(float)) == 0;
+                for (uint32_t y = 0; ok && y < h; ++y)
+                    for (uint32_t x = 0; x < w; ++x)
+                        ok = ok &&
+                             memcmp(&gpu[(size_t)y * w + x], &full[(size_t)((y0 + y) % M) * M + (x0 + x) % M], 4) == 0;
+                if (!ok && bad++ < 3)
+                    fprintf(stderr, "  %s n=%u window %u,%u %ux%u differs\n", periodic ? "periodic" : "ffc", levels[k],
+                            x0, y0, w, h);
+                free(gpu), free(cpu);
+                d.region = (frt_region){0};
+            }
+            CHECK(bad == 0, "vulkan %s n=%u: %d of %d regions equal the CPU region and the crop of the whole grid",
+                  periodic ? "periodic" : "ffc", levels[k], windows - bad, windows);
+            free(full);
+        }
+    }
+    /* Deep: n = 24 (a 1024^2 window) and n = 30 (FFC far corner, periodic across the wrap). */
+    const struct {
+        uint32_t n;
+        frt_edge edge;
+        frt_region g;
+    } deep[] = {{24, FRT_EDGE_FFC, {5000000, 7000000, 1024, 1024}},
+                {30, FRT_EDGE_FFC, {(1u << 30) - 99, (1u << 30) - 63, 100, 64}},
+                {30, FRT_EDGE_PERIODIC, {(1u << 30) - 50, 3, 101, 77}}};
+    for (size_t k = 0; k < sizeof deep / sizeof deep[0]; ++k) {
+        frt_terrain_desc d = {0};
+        d.levels = deep[k].n, d.edge = deep[k].edge, d.region = deep[k].g, d.seed = 11;
+        float *gpu, *cpu;
+        frt_run_info info = {0};
+        bool ok = region_both(ctx, d, &gpu, &cpu, &info);
+        size_t count = (size_t)d.region.width * d.region.height;
+        CHECK(ok && memcmp(gpu, cpu, count * sizeof(float)) == 0 && info.dispatches == d.levels + 1,
+              "n=%u %s region %ux%u: vulkan equals cpu bit for bit (%u dispatches)", d.levels,
+              d.edge == FRT_EDGE_PERIODIC ? "periodic" : "ffc", d.region.width, d.region.height, info.dispatches);
+        printf("region n=%u %ux%u: %.3f s on the device, %.3f s in all\n", d.levels, d.region.width, d.region.height,
+               info.device_seconds, info.total_seconds);
+        free(gpu), free(cpu);
+    }
+}
+
 int main(void)
 {
     frt_context *ctx = check_context();
@@ -205,6 +293,7 @@ int main(void)
     printf("vk vs cpu over %zu grids: %zu points differ (bit-identical required)\n", ncases, differ);
     test_exact(ctx);
     test_periodic(ctx);
+    test_regions(ctx);
     test_large(ctx);
 
     check_context_done(ctx);

@@ -226,9 +226,178 @@ static void test_periodic(void)
     CHECK(ffc_ratio > 10.0, "control: FFC's opposite edges do not match (ratio %.1f)", ffc_ratio);
 }
 
+/* A region of the CPU generator (levels up to 30); NULL when the call fails. */
+static float *gen_region(uint32_t levels, uint64_t seed, frt_edge edge, uint32_t x, uint32_t y, uint32_t w, uint32_t h)
+{
+    frt_terrain_desc d = {0};
+    d.levels = levels, d.hurst = 0.7, d.sigma = 1.0, d.seed = seed, d.seed_is_explicit = true, d.edge = edge;
+    d.region = (frt_region){x, y, w, h};
+    size_t count = frt_heightfield_size(&d);
+    if (count != (size_t)w * h)
+        return NULL;
+    float *out = check_alloc(count * sizeof *out);
+    if (frt_generate_cpu(&d, out, count, NULL) != FRT_SUCCESS) {
+        free(out);
+        return NULL;
+    }
+    return out;
+}
+
+/* The window of the whole field `full` (side M), wrapping in periodic mode, compared bit for bit. */
+static bool region_matches(const float *full, uint32_t M, const float *reg, uint32_t x0, uint32_t y0, uint32_t w,
+                           uint32_t h)
+{
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            if (frt_float_bits(reg[(size_t)y * w + x]) !=
+                frt_float_bits(full[(size_t)((y0 + y) % M) * M + (x0 + x) % M]))
+                return false;
+    return true;
+}
+
+static uint32_t lcg_below(uint64_t *state, uint32_t bound)
+{
+    *state = *state * 6364136223846793005ull + 1442695040888963407ull;
+    return (uint32_t)((*state >> 33) % bound);
+}
+
+/* §3.2: a region equals, bit for bit, the same window cut from the whole grid, for every window shape. */
+static void test_regions_exact(void)
+{
+    static const uint32_t levels[] = {1, 2, 3, 4, 6, 9, 12};
+    for (int periodic = 0; periodic <= 1; ++periodic) {
+        const frt_edge edge = periodic ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
+        for (size_t k = 0; k < sizeof levels / sizeof levels[0]; ++k) {
+            const uint32_t n = levels[k], M = periodic ? 1u << n : (1u << n) + 1u;
+            float *full = gen_edge(n, 0.7, 1.0, 1234 + n, edge);
+            uint64_t st = n * 77 + (uint64_t)periodic;
+            int windows = 0, bad = 0;
+            const int trials = n >= 12 ? 40 : 120;
+            for (int t = 0; t < trials; ++t) {
+                uint32_t x0, y0, w, h;
+                if (t == 0) /* the whole grid */
+                    x0 = y0 = 0, w = h = M;
+                else if (t <= 4) { /* 1 x 1 at each corner */
+                    x0 = (t & 1) ? 0 : M - 1, y0 = (t & 2) ? 0 : M - 1, w = h = 1;
+                } else if (t <= 8) { /* strips along each border */
+                    w = (t <= 6) ? M : 1 + lcg_below(&st, 3);
+                    h = (t <= 6) ? 1 + lcg_below(&st, 3) : M;
+                    x0 = (t == 8) ? M - w : 0;
+                    y0 = (t == 6) ? M - h : 0;
+                } else {
+                    w = 1 + lcg_below(&st, M < 70 ? M : 70);
+                    h = 1 + lcg_below(&st, M < 70 ? M : 70);
+                    x0 = lcg_below(&st, periodic ? M : M - w + 1);
+                    y0 = lcg_below(&st, periodic ? M : M - h + 1);
+                }
+                float *reg = gen_region(n, 1234 + n, edge, x0, y0, w, h);
+                ++windows;
+                if (!reg || !region_matches(full, M, reg, x0, y0, w, h)) {
+                    if (bad++ < 3)
+                        fprintf(stderr, "  n=%u %s window %u,%u %ux%u differs\n", n, periodic ? "periodic" : "ffc", x0,
+                                y0, w, h);
+                }
+                free(reg);
+            }
+            CHECK(bad == 0, "%s n=%u: %d of %d windows equal the crop of the whole grid bit for bit",
+                  periodic ? "periodic" : "ffc", n, windows - bad, windows);
+            free(full);
+        }
+    }
+    /* Periodic windows wrap: a 2M x 2M window shows the field four times, seams included. */
+    float *full = gen_periodic(5, 0.7, 1.0, 1239);
+    float *reg = gen_region(5, 1239, FRT_EDGE_PERIODIC, 17, 9, 64, 64);
+    CHECK(reg && region_matches(full, 32, reg, 17, 9, 64, 64), "periodic window wrapping twice equals the torus");
+    free(reg);
+    free(full);
+}
+
+/* Resolution independence across depths: the region at n + k, every 2^k-th point, is the region at n. */
+static void test_regions_deep(void)
+{
+    const uint32_t n = 22, k = 3, s = 1u << k, x0 = 1234567, y0 = 3456789, w = 48, h = 40;
+    float *coarse = gen_region(n, 99, FRT_EDGE_FFC, x0, y0, w, h);
+    float *fine = gen_region(n + k, 99, FRT_EDGE_FFC, x0 * s, y0 * s, (w - 1) * s + 1, (h - 1) * s + 1);
+    bool same = coarse && fine;
+    for (uint32_t y = 0; same && y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            same = same && frt_float_bits(coarse[(size_t)y * w + x]) ==
+                               frt_float_bits(fine[(size_t)(y * s) * ((w - 1) * s + 1) + x * s]);
+    CHECK(same, "region at n=%u equals every %u-th point of the region at n=%u", n, s, n + k);
+    free(coarse);
+    free(fine);
+
+    /* The deepest grid: corners, the far corner and the middle of 2^30 + 1, FFC and periodic. */
+    const uint32_t last = 1u << 30;
+    float *corner = gen_region(30, 5, FRT_EDGE_FFC, last - 3, last - 3, 4, 4);
+    float *top = gen_region(1, 5, FRT_EDGE_FFC, 2, 2, 1, 1);
+    CHECK(corner && top && frt_float_bits(corner[15]) == frt_float_bits(top[0]),
+          "n=30: the far corner is the level-0 corner");
+    bool finite = corner != NULL;
+    for (int i = 0; finite && i < 16; ++i)
+        finite = isfinite(corner[i]);
+    CHECK(finite, "n=30 corner region is finite");
+    free(corner);
+    free(top);
+    float *wrap = gen_region(30, 5, FRT_EDGE_PERIODIC, last - 2, last - 2, 5, 5);
+    float *origin = gen_region(30, 5, FRT_EDGE_PERIODIC, 0, 0, 3, 3);
+    bool wraps = wrap && origin;
+    for (uint32_t y = 0; wraps && y < 3; ++y)
+        for (uint32_t x = 0; x < 3; ++x)
+            wraps = wraps && frt_float_bits(wrap[(y + 2) * 5 + x + 2]) == frt_float_bits(origin[y * 3 + x]);
+    CHECK(wraps, "n=30 periodic window across the wrap continues at (0, 0)");
+    free(wrap);
+    free(origin);
+}
+
+static void test_regions_invalid(void)
+{
+    char why[200];
+    frt_terrain_desc d = {0};
+    d.levels = 10;
+    d.region = (frt_region){0, 0, 1025, 1025};
+    uint32_t w = 0, h = 0;
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_SUCCESS && why[0] == '\0', "whole-grid region is valid");
+    CHECK(frt_terrain_extent(&d, &w, &h) == FRT_SUCCESS && w == 1025 && h == 1025, "extent of a region");
+    d.region = (frt_region){0, 0, 1026, 1};
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT && strstr(why, "outside"),
+          "window past the right edge: %s", why);
+    CHECK(frt_heightfield_size(&d) == 0 && frt_terrain_extent(&d, &w, &h) != FRT_SUCCESS && w == 0,
+          "invalid region has no size");
+    d.region = (frt_region){1000, 1020, 10, 6};
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT, "window past the bottom: %s", why);
+    d.region = (frt_region){3, 3, 0, 5};
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT && strstr(why, "at least 1"),
+          "zero width: %s", why);
+    d.region = (frt_region){3, 3, 0, 0};
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT, "origin without size: %s", why);
+    d.region = (frt_region){0, 0, 4, 4};
+    d.levels = 31;
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT && strstr(why, "at most 30"),
+          "31 levels: %s", why);
+    d.levels = 16;
+    d.region = (frt_region){0};
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT && strstr(why, "region"),
+          "16 levels without a region: %s", why);
+    d.edge = FRT_EDGE_PERIODIC;
+    d.region = (frt_region){65536, 0, 4, 4};
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT && strstr(why, "periodic"),
+          "periodic origin outside: %s", why);
+    d.region = (frt_region){65535, 65535, 4, 4};
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_SUCCESS, "periodic window may wrap");
+    float one;
+    d.region = (frt_region){0, 0, 1, 1};
+    CHECK(frt_generate_cpu(&d, &one, 1, NULL) == FRT_SUCCESS, "1 x 1 region needs one float");
+    d.region = (frt_region){0, 0, 2, 1};
+    CHECK(frt_generate_cpu(&d, &one, 1, NULL) == FRT_ERROR_BUFFER_TOO_SMALL, "region larger than the buffer");
+}
+
 int main(void)
 {
     test_desc();
+    test_regions_invalid();
+    test_regions_exact();
+    test_regions_deep();
     test_periodic();
     test_contract_points();
     test_exact_properties();
