@@ -1,4 +1,4 @@
-/* cli.c — the `fracterra` command: generate, render, devices, bench. Exit codes are listed in usage(). */
+/* cli.c — the `fracterra` command: generate, tiles, render, devices, bench. Exit codes are listed in usage(). */
 #include "cli.h"
 
 #include <errno.h>
@@ -146,6 +146,8 @@ static void usage(FILE *f)
             "\n"
             "Usage:\n"
             "  fracterra generate [options] -o FILE   generate a heightfield (see: fracterra generate --help)\n"
+            "  fracterra tiles --levels N --out DIR   cut a grid of up to 2^30+1 a side into tiles, or an XYZ\n"
+            "                                         pyramid of PNG tiles (see: fracterra tiles --help)\n"
             "  fracterra render IN -o OUT [options]   hillshade, colour relief or 1988-style profile plot\n"
             "  fracterra devices                      list Vulkan devices\n"
             "  fracterra bench [options]              measure points/second per backend\n"
@@ -212,6 +214,8 @@ int main(int argc, char **argv)
         return cmd_devices(argc - 1, argv + 1);
     if (strcmp(cmd, "bench") == 0)
         return frt_cmd_bench(argc - 1, argv + 1);
-    return frt_cli_fail(FRT_EXIT_USAGE, "unknown command '%s' (commands: generate, render, devices, bench; see --help)",
-                        cmd);
+    if (strcmp(cmd, "tiles") == 0)
+        return frt_cmd_tiles(argc - 1, argv + 1);
+    return frt_cli_fail(FRT_EXIT_USAGE,
+                        "unknown command '%s' (commands: generate, tiles, render, devices, bench; see --help)", cmd);
 }

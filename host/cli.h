@@ -37,8 +37,19 @@ void frt_progress_end(void);
 int frt_write_frames(const char *dir, const char *gif, const float *field, uint32_t side, uint32_t levels,
                      const frt_write_desc *wd);
 
+/* cli_inputs.c: whole heightfield files as inputs. Each prints one message and returns an exit code (0: ok). */
+int frt_cli_read_field(const char *path, const char *what, float **out, frt_field_info *info);
+/* --coarse: a square (2^k+1)^2 grid (2^k x 2^k periodic); sets *k. */
+int frt_cli_load_coarse(const char *path, bool periodic, float **grid, uint32_t *k, frt_field_info *info);
+typedef enum frt_cli_map { FRT_CLI_MAP_HURST, FRT_CLI_MAP_DIMENSION, FRT_CLI_MAP_AMPLITUDE } frt_cli_map;
+/* A map (at least 2 x 2) with its values checked; a dimension map is converted to H = 3 - D. */
+int frt_cli_load_map(const char *path, frt_cli_map kind, float **data, frt_map *map);
+/* "gauss", "truncated[:K]", "clt[:N]", "uniform"; the parameter's range is checked by frt_terrain_desc_check. */
+bool frt_parse_noise(const char *s, frt_noise_kind *kind, double *param);
+
 int frt_cmd_generate(int argc, char **argv);
 int frt_cmd_render(int argc, char **argv);
 int frt_cmd_bench(int argc, char **argv);
+int frt_cmd_tiles(int argc, char **argv); /* cli_tiles.c */
 
 #endif

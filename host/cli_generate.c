@@ -16,16 +16,21 @@ static void generate_help(void)
 {
     printf("Usage: fracterra generate [options] -o FILE [-o FILE ...]\n"
            "\n"
-           "Generates a (2^N+1) x (2^N+1) heightfield by FFC random midpoint displacement (docs/ALGORITHM.md).\n"
+           "Generates a (2^N+1) x (2^N+1) heightfield by FFC random midpoint displacement (docs/ALGORITHM.md),\n"
+           "or a window of one (--region).\n"
            "\n"
            "Terrain:\n"
-           "  --levels N          refinement levels, grid side 2^N+1 (1..%u; default %u -> 513 x 513)\n"
+           "  --levels N          refinement levels, grid side 2^N+1 (1..%u, or 1..%u with --region; default %u\n"
+           "                      -> 513 x 513)\n"
            "  --hurst H           Hurst exponent, 0 < H < 1 (default %.1f); larger is smoother\n"
            "  --dimension D       fractal dimension, 2 < D < 3, H = 3 - D (not with --hurst)\n"
            "  --sigma S           amplitude, any non-zero real; negative inverts peaks and valleys (default 1)\n"
            "  --seed U64          noise key, decimal or 0x hex (default 1)\n"
            "  --edge E            ffc (default): (2^N+1)^2, border points average 3 neighbours;\n"
            "                      periodic: 2^N x 2^N on a torus, copies tile without seams\n"
+           "  --region X0,Y0,W,H  only the W x H window at column X0, row Y0 of the grid, equal to that part of the\n"
+           "                      whole grid; only its ancestors are computed, so N may be up to %u. FFC: the\n"
+           "                      window lies inside the grid; periodic: X0, Y0 < 2^N and the window may wrap\n"
            "  --backend B         auto | vulkan | cpu (default auto: Vulkan if a device exists, else CPU)\n"
            "  --device D          Vulkan device by index or name substring (see: fracterra devices)\n"
            "\n"
@@ -45,15 +50,16 @@ static void generate_help(void)
            "  --preview-style S   hillshade | color (hypsometric colours over the hillshade; default hillshade)\n"
            "  --frames DIR        write the field after each level, DIR/frame-00.png ... frame-NN.png: 16-bit\n"
            "                      PNGs upsampled (nearest neighbour) to the final size on the final field's scale\n"
+           "                      (whole grids only, not with --region)\n"
            "  --gif FILE.gif      the same frames as one animated GIF (at most 1025 pixels a side: larger\n"
-           "                      fields are subsampled)\n"
+           "                      fields are subsampled; not with --region)\n"
            "  -q, --quiet         no progress and no summary line on stderr\n"
            "  -h, --help          this text\n"
            "\n"
            "Every file appears only when complete: it is written to a temporary file and renamed, so a failure\n"
            "never leaves a partial file or replaces an existing one. Unwritable outputs are reported before any\n"
            "work is done.\n",
-           FRT_MAX_LEVELS, FRT_DEFAULT_LEVELS, FRT_DEFAULT_HURST);
+           FRT_MAX_LEVELS, FRT_MAX_REGION_LEVELS, FRT_DEFAULT_LEVELS, FRT_DEFAULT_HURST, FRT_MAX_REGION_LEVELS);
 }
 
 /* Opens the context for `backend`, or returns NULL with *use_cpu set for the auto fallback; on a hard failure
@@ -75,6 +81,59 @@ static frt_context *open_vulkan(frt_backend backend, const char *device, bool *u
     }
     *exit_code = frt_cli_fail(FRT_EXIT_DEVICE, "%s", err);
     return NULL;
+}
+
+/* "X0,Y0,W,H": four whole numbers separated by commas, nothing else. */
+static bool parse_region(const char *s, frt_region *g)
+{
+    char buf[128];
+    if (strlen(s) >= sizeof buf)
+        return false;
+    strcpy(buf, s);
+    uint32_t v[4];
+    char *p = buf;
+    for (int i = 0; i < 4; ++i) {
+        char *comma = strchr(p, ',');
+        if ((i < 3) != (comma != NULL))
+            return false;
+        if (comma)
+            *comma = '\0';
+        if (!frt_parse_u32(p, &v[i]))
+            return false;
+        p = comma ? comma + 1 : p;
+    }
+    g->x = v[0], g->y = v[1], g->width = v[2], g->height = v[3];
+    return true;
+}
+
+/* The region against the grid of `d` (levels and edge resolved): one message naming the problem and the grid's
+ * side, so that the user need not know the library's rules (docs/ALGORITHM.md §3.2). */
+static int check_region(const frt_terrain_desc *d, const char *text)
+{
+    const frt_region g = d->region;
+    const bool periodic = d->edge == FRT_EDGE_PERIODIC;
+    const unsigned long long side = (1ull << d->levels) + (periodic ? 0u : 1u);
+    if (g.width == 0 || g.height == 0)
+        return frt_cli_fail(FRT_EXIT_USAGE, "--region %s: width and height must both be at least 1", text);
+    if (periodic) {
+        if (g.x >= side || g.y >= side)
+            return frt_cli_fail(FRT_EXIT_USAGE,
+                                "--region %s: the origin %u,%u lies outside the %llu x %llu periodic grid of levels "
+                                "%u (X0 and Y0 must be below %llu; the window may wrap)",
+                                text, g.x, g.y, side, side, d->levels, side);
+        if (g.width > FRT_REGION_MAX_SIDE || g.height > FRT_REGION_MAX_SIDE)
+            return frt_cli_fail(FRT_EXIT_USAGE, "--region %s: a side is larger than %u", text, FRT_REGION_MAX_SIDE);
+    } else if ((uint64_t)g.x + g.width > side || (uint64_t)g.y + g.height > side) {
+        return frt_cli_fail(FRT_EXIT_USAGE,
+                            "--region %s reaches outside the %llu x %llu grid of levels %u (X0 + W and Y0 + H must be "
+                            "at most %llu)",
+                            text, side, side, d->levels, side);
+    }
+    if ((uint64_t)g.width * g.height > FRT_FILE_MAX_POINTS)
+        return frt_cli_fail(FRT_EXIT_USAGE,
+                            "--region %s: %u x %u is more than 2^32 heights, the most a fracterra file holds", text,
+                            g.width, g.height);
+    return FRT_EXIT_OK;
 }
 
 #define MAX_OUTPUTS 8
@@ -102,7 +161,8 @@ int frt_cmd_generate(int argc, char **argv)
         OPT_PREVIEW_STYLE,
         OPT_FRAMES,
         OPT_GIF,
-        OPT_EDGE
+        OPT_EDGE,
+        OPT_REGION
     };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
                                          {"hurst", required_argument, 0, OPT_HURST},
@@ -120,6 +180,7 @@ int frt_cmd_generate(int argc, char **argv)
                                          {"frames", required_argument, 0, OPT_FRAMES},
                                          {"gif", required_argument, 0, OPT_GIF},
                                          {"edge", required_argument, 0, OPT_EDGE},
+                                         {"region", required_argument, 0, OPT_REGION},
                                          {"output", required_argument, 0, 'o'},
                                          {"quiet", no_argument, 0, 'q'},
                                          {"help", no_argument, 0, 'h'},
@@ -132,7 +193,7 @@ int frt_cmd_generate(int argc, char **argv)
          preview_color = false;
     double dimension = 0.0;
     frt_backend backend = FRT_BACKEND_DEFAULT;
-    const char *device = NULL, *outputs[MAX_OUTPUTS], *preview = NULL, *frames = NULL, *gif = NULL;
+    const char *device = NULL, *outputs[MAX_OUTPUTS], *preview = NULL, *frames = NULL, *gif = NULL, *region = NULL;
     frt_file_format formats[MAX_OUTPUTS];
     unsigned n_outputs = 0;
     opterr = 0;
@@ -141,9 +202,10 @@ int frt_cmd_generate(int argc, char **argv)
     while ((c = getopt_long(argc, argv, ":o:qh", opts, NULL)) != -1) {
         switch (c) {
         case OPT_LEVELS:
-            if (!frt_parse_u32(optarg, &desc.levels) || desc.levels < 1 || desc.levels > FRT_MAX_LEVELS)
-                return frt_cli_fail(FRT_EXIT_USAGE, "--levels must be an integer from 1 to %u, got '%s'",
-                                    FRT_MAX_LEVELS, optarg);
+            if (!frt_parse_u32(optarg, &desc.levels) || desc.levels < 1 || desc.levels > FRT_MAX_REGION_LEVELS)
+                return frt_cli_fail(FRT_EXIT_USAGE,
+                                    "--levels must be an integer from 1 to %u (or to %u with --region), got '%s'",
+                                    FRT_MAX_LEVELS, FRT_MAX_REGION_LEVELS, optarg);
             break;
         case OPT_HURST:
             if (!frt_parse_double(optarg, &desc.hurst) || !(desc.hurst > 0.0 && desc.hurst < 1.0))
@@ -205,6 +267,13 @@ int frt_cmd_generate(int argc, char **argv)
             else
                 return frt_cli_fail(FRT_EXIT_USAGE, "--edge must be ffc or periodic, got '%s'", optarg);
             break;
+        case OPT_REGION:
+            if (!parse_region(optarg, &desc.region))
+                return frt_cli_fail(FRT_EXIT_USAGE,
+                                    "--region must be X0,Y0,W,H: four whole numbers separated by commas, got '%s'",
+                                    optarg);
+            region = optarg;
+            break;
         case 'o':
             if (n_outputs == MAX_OUTPUTS)
                 return frt_cli_fail(FRT_EXIT_USAGE, "at most %d outputs (-o)", MAX_OUTPUTS);
@@ -222,6 +291,17 @@ int frt_cmd_generate(int argc, char **argv)
         return frt_cli_fail(FRT_EXIT_USAGE, "give --hurst or --dimension, not both (H = 3 - D)");
     if (have_dim)
         desc.hurst = 3.0 - dimension;
+    if (desc.levels > FRT_MAX_LEVELS && !region)
+        return frt_cli_fail(FRT_EXIT_USAGE,
+                            "--levels %u needs --region: a whole grid is limited to %u levels (%u x %u); a region "
+                            "may come from a grid of up to %u",
+                            desc.levels, FRT_MAX_LEVELS, frt_grid_side(FRT_MAX_LEVELS), frt_grid_side(FRT_MAX_LEVELS),
+                            FRT_MAX_REGION_LEVELS);
+    if (region && (frames || gif))
+        return frt_cli_fail(FRT_EXIT_USAGE,
+                            "%s does not apply to --region: the growth frames are those of a whole grid, and a "
+                            "window holds no points of the coarse levels",
+                            frames ? "--frames" : "--gif");
     if (n_outputs == 0 && !preview && !frames && !gif)
         return frt_cli_fail(FRT_EXIT_USAGE, "missing -o FILE (.png, .pgm, .npy, .f32, .obj or .ply)");
     bool quantised = false, mesh = false;
@@ -249,10 +329,24 @@ int frt_cmd_generate(int argc, char **argv)
     if (backend == FRT_BACKEND_CPU && device)
         return frt_cli_fail(FRT_EXIT_USAGE, "--device needs the vulkan (or auto) backend");
     frt_terrain_desc resolved;
-    if (frt_terrain_desc_resolved(&desc, &resolved) != FRT_SUCCESS)
-        return frt_cli_fail(FRT_EXIT_USAGE, "invalid parameters");
+    if (frt_terrain_desc_resolved(&desc, &resolved) != FRT_SUCCESS) {
+        if (region && check_region(&resolved, region) != FRT_EXIT_OK)
+            return FRT_EXIT_USAGE;
+        char why[256];
+        frt_terrain_desc_check(&resolved, why, sizeof why);
+        return frt_cli_fail(FRT_EXIT_USAGE, "invalid parameters: %s", why);
+    }
+    if (region && check_region(&resolved, region) != FRT_EXIT_OK)
+        return FRT_EXIT_USAGE;
+    /* The output is the region's window, or the whole grid; `side` is the whole (virtual) grid's. */
     const uint32_t side = frt_terrain_side(&resolved);
+    uint32_t width = 0, height = 0;
+    frt_terrain_extent(&resolved, &width, &height);
     const size_t count = frt_heightfield_size(&resolved);
+    char where[128] = ""; /* " at X0,Y0 of the S x S grid" for a region */
+    if (region)
+        snprintf(where, sizeof where, " at %u,%u of the %u x %u grid", resolved.region.x, resolved.region.y, side,
+                 side);
 
     /* Unwritable targets fail before any work. */
     int code = FRT_EXIT_OK;
@@ -276,16 +370,16 @@ int frt_cmd_generate(int argc, char **argv)
     }
 
     frt_progress_init(quiet);
-    float *field = malloc(count * sizeof *field);
+    float *field = count && count <= SIZE_MAX / sizeof *field ? malloc(count * sizeof *field) : NULL;
     frt_context *ctx = NULL;
     bool use_cpu = backend == FRT_BACKEND_CPU;
     frt_run_info info;
     memset(&info, 0, sizeof info);
     const char *backend_name = "cpu", *device_name = "CPU reference";
-    char label[400];
+    char label[640]; /* a label, a region and a device name */
     if (!field) {
-        code = frt_cli_fail(FRT_EXIT_DEVICE, "cannot allocate %.1f MiB for a %u x %u grid on this host",
-                            (double)count * 4.0 / 1048576.0, side, side);
+        code = frt_cli_fail(FRT_EXIT_DEVICE, "cannot allocate %.1f MiB for %u x %u heights on this host",
+                            (double)width * height * 4.0 / 1048576.0, width, height);
         goto out;
     }
     if (!use_cpu) {
@@ -294,7 +388,8 @@ int frt_cmd_generate(int argc, char **argv)
             goto out;
     }
     if (ctx) {
-        snprintf(label, sizeof label, "generating %u x %u on %s", side, side, frt_context_device(ctx)->name);
+        snprintf(label, sizeof label, "generating %u x %u%s on %s", width, height, where,
+                 frt_context_device(ctx)->name);
         frt_progress_begin(label, 0);
         frt_result r = frt_generate(ctx, &resolved, field, count, &info);
         frt_progress_end();
@@ -311,7 +406,7 @@ int frt_cmd_generate(int argc, char **argv)
         }
     }
     if (use_cpu) {
-        snprintf(label, sizeof label, "generating %u x %u on the CPU", side, side);
+        snprintf(label, sizeof label, "generating %u x %u%s on the CPU", width, height, where);
         frt_progress_begin(label, 0);
         frt_result r = frt_generate_cpu(&resolved, field, count, &info);
         frt_progress_end();
@@ -328,7 +423,7 @@ int frt_cmd_generate(int argc, char **argv)
     for (unsigned i = 0; i < n_outputs; ++i) {
         snprintf(label, sizeof label, "writing %s", outputs[i]);
         frt_progress_begin(label, 0);
-        frt_result wr = frt_write_heightfield(outputs[i], field, side, side, &wd, err, sizeof err);
+        frt_result wr = frt_write_heightfield(outputs[i], field, width, height, &wd, err, sizeof err);
         frt_progress_end();
         if (wr != FRT_SUCCESS) {
             code = frt_cli_fail(wr == FRT_ERROR_IO ? FRT_EXIT_IO : FRT_EXIT_USAGE, "%s", err);
@@ -341,11 +436,11 @@ int frt_cmd_generate(int argc, char **argv)
         hd.spacing_x = wd.spacing_x;
         hd.spacing_y = wd.spacing_y;
         hd.color = preview_color;
-        size_t bytes = frt_hillshade_size(side, side, &hd);
+        size_t bytes = frt_hillshade_size(width, height, &hd);
         uint8_t *pic = bytes ? malloc(bytes) : NULL;
-        frt_result pr = pic ? frt_hillshade(field, side, side, &hd, pic, bytes) : FRT_ERROR_OUT_OF_MEMORY;
+        frt_result pr = pic ? frt_hillshade(field, width, height, &hd, pic, bytes) : FRT_ERROR_OUT_OF_MEMORY;
         if (pr == FRT_SUCCESS)
-            pr = frt_write_picture(preview, pic, side, side, preview_color ? 3 : 1, err, sizeof err);
+            pr = frt_write_picture(preview, pic, width, height, preview_color ? 3 : 1, err, sizeof err);
         else
             snprintf(err, sizeof err, "preview: %s", frt_result_string(pr));
         free(pic);
@@ -354,15 +449,15 @@ int frt_cmd_generate(int argc, char **argv)
             goto out;
         }
     }
-    if (frames || gif) {
+    if (frames || gif) { /* whole grids only (checked above): frames are cut from the final (2^n+1)^2 field */
         code = frt_write_frames(frames, gif, field, side, resolved.levels, &wd);
         if (code != FRT_EXIT_OK)
             goto out;
     }
     if (!quiet) {
-        fprintf(stderr, "%s: %u x %u (levels %u, H %.3g, sigma %.6g, seed %llu) on %s [%s] in %.3f s", frt_cli_command,
-                side, side, resolved.levels, resolved.hurst, resolved.sigma, (unsigned long long)resolved.seed,
-                device_name, backend_name, info.total_seconds);
+        fprintf(stderr, "%s: %u x %u%s (levels %u, H %.3g, sigma %.6g, seed %llu) on %s [%s] in %.3f s",
+                frt_cli_command, width, height, where, resolved.levels, resolved.hurst, resolved.sigma,
+                (unsigned long long)resolved.seed, device_name, backend_name, info.total_seconds);
         const char *sep = " ->";
         for (unsigned i = 0; i < n_outputs; ++i, sep = ",")
             fprintf(stderr, "%s %s", sep, outputs[i]);

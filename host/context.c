@@ -506,6 +506,12 @@ void frt_buffer_destroy(frt_context *ctx, struct frt_vk_buffer *b)
 frt_result frt_pipeline_create(frt_context *ctx, const uint32_t *spirv, size_t spirv_bytes, uint32_t push_size,
                                VkPipeline *pipeline, VkPipelineLayout *layout)
 {
+    return frt_pipeline_create_spec(ctx, spirv, spirv_bytes, push_size, NULL, pipeline, layout);
+}
+
+frt_result frt_pipeline_create_spec(frt_context *ctx, const uint32_t *spirv, size_t spirv_bytes, uint32_t push_size,
+                                    const VkSpecializationInfo *spec, VkPipeline *pipeline, VkPipelineLayout *layout)
+{
     VkShaderModuleCreateInfo smci = {VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     smci.codeSize = spirv_bytes;
     smci.pCode = spirv;
@@ -526,6 +532,7 @@ frt_result frt_pipeline_create(frt_context *ctx, const uint32_t *spirv, size_t s
         cci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
         cci.stage.module = module;
         cci.stage.pName = "main";
+        cci.stage.pSpecializationInfo = spec;
         cci.layout = *layout;
         r = frt_vk_check(ctx, vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &cci, NULL, pipeline),
                          "vkCreateComputePipelines");

@@ -49,6 +49,12 @@ frt_result frt_terrain_desc_resolved(const frt_terrain_desc *in, frt_terrain_des
     d.seed_is_explicit = true;
     if (d.edge == FRT_EDGE_DEFAULT)
         d.edge = FRT_EDGE_FFC;
+    if (d.noise == FRT_NOISE_DEFAULT)
+        d.noise = FRT_NOISE_GAUSS;
+    if (d.noise_param == 0.0 && d.noise == FRT_NOISE_TRUNCATED)
+        d.noise_param = 3.0;
+    if (d.noise_param == 0.0 && d.noise == FRT_NOISE_CLT)
+        d.noise_param = 4.0;
     if (out)
         *out = d;
     return check_resolved(&d, NULL, 0);
@@ -84,6 +90,23 @@ static frt_result check_resolved(const frt_terrain_desc *dp, char *why, size_t w
         BAD("sigma %g: must be finite and at most 1e30 in magnitude", d.sigma);
     if (d.edge != FRT_EDGE_FFC && d.edge != FRT_EDGE_PERIODIC)
         BAD("unknown edge mode %d", (int)d.edge);
+    switch (d.noise) { /* §2.8 */
+    case FRT_NOISE_GAUSS:
+    case FRT_NOISE_UNIFORM:
+        if (d.noise_param != 0.0)
+            BAD("noise parameter %g: the %s distribution takes none", d.noise_param,
+                d.noise == FRT_NOISE_GAUSS ? "gauss" : "uniform");
+        break;
+    case FRT_NOISE_TRUNCATED:
+        if (!(d.noise_param >= 1.0 && d.noise_param <= 6.0)) /* also rejects NaN */
+            BAD("truncated noise K = %g: must lie in [1, 6]", d.noise_param);
+        break;
+    case FRT_NOISE_CLT:
+        if (!(d.noise_param >= 1.0 && d.noise_param <= 16.0 && d.noise_param == floor(d.noise_param)))
+            BAD("clt noise N = %g: must be a whole number 1..16", d.noise_param);
+        break;
+    default: BAD("unknown noise distribution %d", (int)d.noise);
+    }
     if (has_region) {
         const uint64_t side = (uint64_t)frt_grid_side(d.levels) - (d.edge == FRT_EDGE_PERIODIC ? 1u : 0u);
         if (g.width == 0 || g.height == 0)
@@ -97,6 +120,36 @@ static frt_result check_resolved(const frt_terrain_desc *dp, char *why, size_t w
         } else if ((uint64_t)g.x + g.width > side || (uint64_t)g.y + g.height > side) {
             BAD("region %u,%u %u x %u reaches outside the %llu x %llu grid", g.x, g.y, g.width, g.height,
                 (unsigned long long)side, (unsigned long long)side);
+        }
+    }
+    if (d.coarse || d.coarse_levels) {
+        if (!d.coarse || d.coarse_levels == 0)
+            BAD("densify needs both the coarse heights and coarse_levels");
+        if (d.coarse_levels > d.levels || d.coarse_levels > FRT_MAX_LEVELS)
+            BAD("coarse grid of %u levels: at most the %u levels generated (and %u)", d.coarse_levels, d.levels,
+                FRT_MAX_LEVELS);
+        const size_t cs = frt_grid_side(d.coarse_levels) - (d.edge == FRT_EDGE_PERIODIC ? 1u : 0u);
+        for (size_t i = 0; i < cs * cs; ++i)
+            if (isinf(d.coarse[i]))
+                BAD("coarse height at column %zu, row %zu is infinite (use NaN for no data)", i % cs, i / cs);
+    }
+    for (int which = 0; which < 2; ++which) {
+        const frt_map *m = which ? &d.amplitude_map : &d.hurst_map;
+        const char *name = which ? "amplitude map" : "roughness map";
+        if (!m->data && !m->width && !m->height)
+            continue;
+        if (!m->data || m->width < 2 || m->height < 2)
+            BAD("%s of %u x %u: needs data and at least 2 x 2 samples", name, m->width, m->height);
+        if ((size_t)m->width * m->height > ((size_t)1 << 30))
+            BAD("%s of %u x %u: more than 2^30 samples", name, m->width, m->height);
+        for (size_t i = 0; i < (size_t)m->width * m->height; ++i) {
+            const float v = m->data[i];
+            if (!which && !(v > 0.0f && v < 1.0f))
+                BAD("roughness map value %g at column %zu, row %zu: H must lie in (0, 1)", v, i % m->width,
+                    i / m->width);
+            if (which && !(fabs(v) * fabs(d.sigma) <= 1e30))
+                BAD("amplitude map value %g at column %zu, row %zu: must be finite, |sigma x value| <= 1e30", v,
+                    i % m->width, i / m->width);
         }
     }
 #undef BAD

@@ -3,14 +3,17 @@
 #include "internal.h"
 
 #include <errno.h>
+#include <float.h>
 #include <locale.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define EXTENSIONS ".png, .pgm, .f32, .npy, .obj or .ply"
+#define EXTENSIONS ".png, .pgm, .f32, .npy, .obj, .ply or .tif"
+
 #define SIDECAR_MAX_BYTES (1u << 20)
 
 /* Numbers in files are C-locale text whatever the application's locale: under a German LC_NUMERIC, printf would
@@ -66,7 +69,7 @@ frt_result frt_field_out_init(frt_field_out *f, const char *name, const float *h
         return frt_fail(err, err_size, FRT_ERROR_TOO_LARGE, f->name, ": %u x %u heights are more than 2^32", width,
                         height);
     f->format = d.format != FRT_FILE_DEFAULT ? d.format : frt_file_format_from_path(name);
-    if (d.format != FRT_FILE_DEFAULT && (d.format < FRT_FILE_PNG || d.format > FRT_FILE_PLY))
+    if (d.format != FRT_FILE_DEFAULT && (d.format < FRT_FILE_PNG || d.format > FRT_FILE_TIFF))
         return frt_fail(err, err_size, FRT_ERROR_INVALID_ARGUMENT, f->name, ": unknown file format %d", (int)d.format);
     if (f->format == FRT_FILE_DEFAULT)
         return frt_fail(err, err_size, FRT_ERROR_INVALID_ARGUMENT, f->name,
@@ -91,10 +94,24 @@ frt_result frt_field_out_init(frt_field_out *f, const char *name, const float *h
     }
     f->backend = d.backend;
     f->device = d.device;
+    f->geotransform = d.geotransform;
+    f->projection = d.projection;
+    f->has_nodata = d.has_nodata;
+    f->nodata = d.nodata;
     f->h = h;
     f->width = width;
     f->height = height;
     field_minmax(h, (size_t)width * height, &f->min, &f->max);
+    /* PNG/PGM on the caller's scale (frt_write_desc.range_min/max): the writers quantise on, and record, f->min/max,
+     * which are floats, so the range must stay an increasing pair in float. */
+    if (d.range_min != d.range_max && (f->format == FRT_FILE_PNG || f->format == FRT_FILE_PGM)) {
+        if (!(fabs(d.range_min) <= FLT_MAX && fabs(d.range_max) <= FLT_MAX && (float)d.range_min < (float)d.range_max))
+            return frt_fail(err, err_size, FRT_ERROR_INVALID_ARGUMENT, f->name,
+                            ": range %g .. %g is not an increasing pair of finite single-precision numbers",
+                            d.range_min, d.range_max);
+        f->min = (float)d.range_min;
+        f->max = (float)d.range_max;
+    }
     return FRT_SUCCESS;
 }
 
@@ -110,6 +127,10 @@ frt_result frt_write_stream(FILE *fp, const frt_field_out *f, char *err, size_t 
     case FRT_FILE_NPY: r = frt_npy_write(fp, f, err, err_size); break;
     case FRT_FILE_OBJ: r = frt_obj_write(fp, f, err, err_size); break;
     case FRT_FILE_PLY: r = frt_ply_write(fp, f, err, err_size); break;
+    case FRT_FILE_TIFF:
+        r = frt_fail(err, err_size, FRT_ERROR_UNSUPPORTED, f->name,
+                     ": GeoTIFF is written by GDAL to a path (frt_write_heightfield), not to a stream");
+        break;
     default: r = frt_fail(err, err_size, FRT_ERROR_INVALID_ARGUMENT, f->name, ": unknown file format");
     }
     c_locale_end(&l);
@@ -136,6 +157,16 @@ frt_result frt_write_heightfield(const char *path, const float *h, uint32_t widt
     frt_result r = frt_field_out_init(&f, path, h, width, height, desc, err, err_size);
     if (r != FRT_SUCCESS)
         return r;
+    if (f.format == FRT_FILE_TIFF) {
+        c_locale l;
+        c_locale_begin(&l);
+        char *line = frt_meta_json(&f, FRT_JSON_LINE);
+        r = line ? frt_tiff_write(&f, line, err, err_size)
+                 : frt_fail(err, err_size, FRT_ERROR_OUT_OF_MEMORY, path, ": out of memory");
+        free(line);
+        c_locale_end(&l);
+        return r;
+    }
     frt_atomic_file data = {0}, side = {0};
     char *side_path = NULL, *json = NULL;
     /* Both temporaries exist before anything is written, so that an unwritable sidecar costs no work. */
@@ -225,6 +256,10 @@ frt_result frt_read_stream(FILE *fp, frt_file_format format, const char *sidecar
         case FRT_FILE_NPY: r = frt_npy_read(&rd, info, out, out_count); break;
         case FRT_FILE_OBJ: r = frt_obj_read(&rd, info, out, out_count); break;
         case FRT_FILE_PLY: r = frt_ply_read(&rd, info, out, out_count); break;
+        case FRT_FILE_TIFF:
+            r = frt_fail(err, err_size, FRT_ERROR_UNSUPPORTED, name,
+                         ": GeoTIFF is read by GDAL from a path (frt_read_heightfield), not from a stream");
+            break;
         default:
             r = frt_fail(err, err_size, FRT_ERROR_INVALID_ARGUMENT, name,
                          ": unknown extension; fracterra reads " EXTENSIONS);
@@ -296,6 +331,25 @@ static frt_result open_input(const char *path, FILE **fp, frt_file_format *forma
     return r;
 }
 
+/* GeoTIFF: GDAL reads by name (format_tiff.c); info is set up as frt_read_stream does. */
+static frt_result read_tiff(const char *path, float *out, size_t out_count, frt_field_info *info, char *err,
+                            size_t err_size)
+{
+    frt_field_info local;
+    if (!info)
+        info = &local;
+    memset(info, 0, sizeof *info);
+    info->format = FRT_FILE_TIFF;
+    info->spacing_x = info->spacing_y = info->z_scale = 1.0;
+    c_locale l;
+    c_locale_begin(&l);
+    frt_result r = frt_tiff_read(path, info, out, out_count, err, err_size);
+    c_locale_end(&l);
+    if (r == FRT_SUCCESS && out)
+        field_minmax(out, (size_t)info->width * info->height, &info->min, &info->max);
+    return r;
+}
+
 /* Opens `path` (and its sidecar) and runs the stream reader: the header only when `out` is NULL. */
 static frt_result read_path(const char *path, float *out, size_t out_count, frt_field_info *info, char *err,
                             size_t err_size)
@@ -304,10 +358,17 @@ static frt_result read_path(const char *path, float *out, size_t out_count, frt_
     frt_file_format format = FRT_FILE_DEFAULT;
     char *sidecar;
     frt_result r = open_input(path, &fp, &format, &sidecar, err, err_size);
-    if (r == FRT_SUCCESS)
+    if (r == FRT_SUCCESS && format == FRT_FILE_TIFF) {
+        /* open_input has checked that it is a readable regular file, with the same messages as the others; GDAL
+         * opens it again by name. */
+        fclose(fp);
+        fp = NULL;
+        r = read_tiff(path, out, out_count, info, err, err_size);
+    } else if (r == FRT_SUCCESS) {
         r = frt_read_stream(fp, format, sidecar, path, info, out, out_count, err, err_size);
-    else if (info)
+    } else if (info) {
         memset(info, 0, sizeof *info);
+    }
     if (fp)
         fclose(fp);
     free(sidecar);

@@ -13,7 +13,7 @@
 
 /* ---- extensions ---- */
 
-static const char *const format_names[] = {"", "png", "pgm", "f32", "npy", "obj", "ply"};
+static const char *const format_names[] = {"", "png", "pgm", "f32", "npy", "obj", "ply", "tif"};
 #define FORMAT_COUNT (sizeof format_names / sizeof format_names[0])
 
 frt_file_format frt_file_format_from_path(const char *path)
@@ -24,6 +24,8 @@ frt_file_format frt_file_format_from_path(const char *path)
     for (size_t i = 1; i < FORMAT_COUNT; ++i)
         if (strcasecmp(dot + 1, format_names[i]) == 0)
             return (frt_file_format)i;
+    if (strcasecmp(dot + 1, "tiff") == 0) /* TIFF's other spelling */
+        return FRT_FILE_TIFF;
     return FRT_FILE_DEFAULT;
 }
 
@@ -134,6 +136,18 @@ char *frt_meta_json(const frt_field_out *f, int style)
         json_object_object_add(o, "seed", json_object_new_uint64(f->terrain.seed));
         json_object_object_add(o, "edge",
                                json_object_new_string(f->terrain.edge == FRT_EDGE_PERIODIC ? "periodic" : "ffc"));
+        if (frt_region_is_set(&f->terrain.region)) {
+            /* A window of a larger virtual grid (docs/ALGORITHM.md §3.2): where it lies, and that grid's side. */
+            json_object *g = json_object_new_object();
+            if (g) {
+                json_object_object_add(g, "x", json_object_new_int64(f->terrain.region.x));
+                json_object_object_add(g, "y", json_object_new_int64(f->terrain.region.y));
+                json_object_object_add(g, "width", json_object_new_int64(f->terrain.region.width));
+                json_object_object_add(g, "height", json_object_new_int64(f->terrain.region.height));
+            }
+            json_object_object_add(o, "region", g);
+            json_object_object_add(o, "grid_side", json_object_new_int64(frt_terrain_side(&f->terrain)));
+        }
     }
     if (f->backend)
         json_object_object_add(o, "backend", json_object_new_string(f->backend));
@@ -192,6 +206,16 @@ static const char *get_string(json_object *root, const char *key)
     if (!json_object_object_get_ex(root, key, &o) || !json_object_is_type(o, json_type_string))
         return NULL;
     return json_object_get_string(o);
+}
+
+/* A whole number in 0..UINT32_MAX. */
+static bool get_u32(json_object *root, const char *key, uint32_t *v)
+{
+    uint64_t u;
+    if (!get_uint(root, key, &u) || u > UINT32_MAX)
+        return false;
+    *v = (uint32_t)u;
+    return true;
 }
 
 /* width or height: absent is fine (0), present must be a whole number in 1..UINT32_MAX. */
@@ -262,19 +286,32 @@ frt_result frt_meta_parse(const char *text, size_t len, frt_field_info *info, fr
     if (get_number(root, "z_scale", &v) && v != 0.0)
         info->z_scale = v;
 
-    /* The parameters count only when all are there and in range: a reader should not invent any. */
+    /* The parameters count only when all are there and in range: a reader should not invent any. A region (files
+     * before it existed have none: the whole grid) must be complete, match the file's size and the recorded side
+     * of its grid, and lets levels go up to FRT_MAX_REGION_LEVELS. */
     frt_terrain_desc d;
     memset(&d, 0, sizeof d);
-    uint64_t levels = 0;
+    uint64_t levels = 0, grid_side = 0;
     const char *edge = get_string(root, "edge");
-    if (get_uint(root, "levels", &levels) && levels >= 1 && levels <= FRT_MAX_LEVELS &&
-        get_number(root, "hurst", &d.hurst) && d.hurst != 0.0 && get_number(root, "sigma", &d.sigma) &&
-        d.sigma != 0.0 && get_uint(root, "seed", &d.seed) &&
+    json_object *go = NULL;
+    const bool has_region = json_object_object_get_ex(root, "region", &go);
+    const bool region_ok =
+        !has_region || (json_object_is_type(go, json_type_object) && get_u32(go, "x", &d.region.x) &&
+                        get_u32(go, "y", &d.region.y) && get_u32(go, "width", &d.region.width) &&
+                        get_u32(go, "height", &d.region.height) && d.region.width >= 1 && d.region.height >= 1 &&
+                        (!extra->has_size || (extra->width == d.region.width && extra->height == d.region.height)));
+    const bool has_grid_side = json_object_object_get_ex(root, "grid_side", NULL);
+    if (has_grid_side && !get_uint(root, "grid_side", &grid_side))
+        grid_side = 0; /* present but not a whole number: never matches */
+    if (region_ok && get_uint(root, "levels", &levels) && levels >= 1 &&
+        levels <= (has_region ? FRT_MAX_REGION_LEVELS : FRT_MAX_LEVELS) && get_number(root, "hurst", &d.hurst) &&
+        d.hurst != 0.0 && get_number(root, "sigma", &d.sigma) && d.sigma != 0.0 && get_uint(root, "seed", &d.seed) &&
         (!edge || strcmp(edge, "ffc") == 0 || strcmp(edge, "periodic") == 0)) {
         d.levels = (uint32_t)levels;
         d.seed_is_explicit = true;
         d.edge = edge && strcmp(edge, "periodic") == 0 ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
-        if (frt_terrain_desc_resolved(&d, &info->terrain) == FRT_SUCCESS)
+        if (frt_terrain_desc_resolved(&d, &info->terrain) == FRT_SUCCESS &&
+            (!has_grid_side || grid_side == frt_terrain_side(&info->terrain)))
             info->has_terrain = true;
         else
             memset(&info->terrain, 0, sizeof info->terrain);

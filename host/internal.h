@@ -23,8 +23,33 @@ float frt_gauss_from_words(uint32_t w0, uint32_t w1);
 float frt_neg2_ln(float u);
 float frt_sqrt_nr(float x);
 float frt_cos_2pi(float v);
-/* g(level, i, j) for the key derived from `seed`. */
+/* g(level, i, j) for the key derived from `seed`: the Gaussian of §2.2 (the default distribution). */
 float frt_noise(uint64_t seed, uint32_t level, uint32_t i, uint32_t j);
+/* The distribution of the displacements (§2.8), prepared once from a resolved descriptor. The same fields go to the
+ * shaders as push constants (shaders/philox.glsl frt_noise_draw). */
+typedef struct frt_noise_params {
+    uint32_t key[2];     /* (seed & 0xffffffff, seed >> 32) */
+    frt_noise_kind kind; /* GAUSS, TRUNCATED, CLT or UNIFORM (never DEFAULT) */
+    uint32_t n;          /* clt: N (uniform: 1); else 0 */
+    float k;             /* truncated: K rounded to float; else 0 */
+    float scale;         /* truncated: S_K; clt, uniform: sqrt(12 / N); gauss: 1 (unused) */
+} frt_noise_params;
+/* Fills `p` from a desc that frt_terrain_desc_resolved accepted (S_K and sqrt(12/N) in double, rounded once). */
+void frt_noise_params_init(frt_noise_params *p, const frt_terrain_desc *resolved);
+/* The displacement noise g(level, i, j) of the distribution `p` (§2.8); gauss gives frt_noise's bits. */
+float frt_noise_draw(const frt_noise_params *p, uint32_t level, uint32_t i, uint32_t j);
+/* S_K = 1 / sqrt(Var_K) of the Gaussian truncated to |g| <= K, in double (§2.8). */
+double frt_truncated_scale(double k);
+/* The shaders' code path for a distribution: 0 gauss, 1 truncated, 2 clt and uniform. The generator's pipelines are
+ * specialised on it (specialization constant 0 = slot + 1, FRT_NOISE_KIND in shaders/philox.glsl), so that the gauss
+ * pipeline carries no code of the others (shaders/philox.glsl says why). */
+#define FRT_NOISE_SLOTS 3
+/* Pipeline slots: a noise slot, plus FRT_NOISE_SLOTS for the variants that sample maps (§3.5, FRT_MAPS = 1). */
+#define FRT_PIPELINE_SLOTS (2 * FRT_NOISE_SLOTS)
+static inline uint32_t frt_noise_slot(frt_noise_kind kind)
+{
+    return kind == FRT_NOISE_TRUNCATED ? 1u : kind == FRT_NOISE_CLT || kind == FRT_NOISE_UNIFORM ? 2u : 0u;
+}
 /* Exact reinterpretation between a float and its bit pattern (GLSL floatBitsToUint / uintBitsToFloat). */
 static inline uint32_t frt_float_bits(float x)
 {
@@ -59,11 +84,32 @@ double frt_now_seconds(void);
 #define FRT_ONE_THIRD_BITS 0x3EAAAAABu
 float frt_one_third(void);
 
+/* ---- maps.c: roughness and amplitude by area (§3.5); the same float32 steps as shaders/maps.glsl ---- */
+/* 2^-x for x in [0, 126), within 2 ulp, from +, -, x only. */
+float frt_exp2_neg(float x);
+/* Bilinear sample of a map (at least 2 x 2) at the level-l lattice point (i, j), i.e. at (i, j) / 2^l. */
+float frt_map_sample(const frt_map *map, uint32_t level, uint32_t i, uint32_t j);
+/* The displacement amplitude of a point created at `level` (a diamond point or a square point) at lattice (i, j):
+ * `level_amp` (sD or sS of §3) without maps; sigma 2^-(e H(p)) with a roughness map; times A(p) with an amplitude
+ * map. At level 0 pass diamond = false and level_amp = sigma. */
+float frt_point_amplitude(const frt_terrain_desc *resolved, uint32_t level, bool diamond, uint32_t i, uint32_t j,
+                          float level_amp);
+
+/* ---- reference.c: densify (§3.4), shared with the Vulkan path ---- */
+/* The coarse grid with its no-data points filled by levels 0..k of the contract (known heights kept): a malloc'd
+ * (2^k+1)^2 grid (2^k x 2^k periodic), k = coarse_levels. */
+frt_result frt_coarse_complete(const frt_terrain_desc *resolved, float **completed);
+/* Copies level k's lattice box (coordinates of the level-k lattice, wrapping in periodic mode) out of it. */
+void frt_coarse_box(const frt_terrain_desc *resolved, const float *completed, const frt_box *box, float *out);
+
 /* ---- noise_vk.c: diagnostics used by the tests (same philox.glsl as the generator) ---- */
 /* For each of `count` (counter, key) pairs — counters[4k..4k+3], keys[2k..2k+1] — writes the Philox words to
  * words_out[4k..4k+3] and the Gaussian of words 0,1 to gauss_out[k]. Either output may be NULL. */
 frt_result frt_noise_vulkan(frt_context *ctx, const uint32_t *counters, const uint32_t *keys, size_t count,
                             uint32_t *words_out, float *gauss_out);
+/* g(level, i, j) of the distribution `p` on the device, for `count` points: points[3k..3k+2] = (i, j, level). */
+frt_result frt_noise_draw_vulkan(frt_context *ctx, const frt_noise_params *p, const uint32_t *points, size_t count,
+                                 float *out);
 
 /* ---- context.c helpers for the other Vulkan files ---- */
 struct frt_vk_buffer {
@@ -86,6 +132,9 @@ void frt_buffer_destroy(frt_context *ctx, struct frt_vk_buffer *b);
 /* Creates a compute pipeline from SPIR-V with a push-constant block of `push_size` bytes. */
 frt_result frt_pipeline_create(frt_context *ctx, const uint32_t *spirv, size_t spirv_bytes, uint32_t push_size,
                                VkPipeline *pipeline, VkPipelineLayout *layout);
+/* The same with specialization constants (`spec` may be NULL). */
+frt_result frt_pipeline_create_spec(frt_context *ctx, const uint32_t *spirv, size_t spirv_bytes, uint32_t push_size,
+                                    const VkSpecializationInfo *spec, VkPipeline *pipeline, VkPipelineLayout *layout);
 /* Begins a one-time command buffer, and submits + waits for it. */
 frt_result frt_cmd_begin(frt_context *ctx, VkCommandBuffer *cmd);
 frt_result frt_cmd_submit_wait(frt_context *ctx, VkCommandBuffer cmd);
@@ -108,11 +157,13 @@ struct frt_context {
     char error[1024];
     /* generate_vk.c: pipelines (made on first use) and the grid buffer, kept for reuse */
     VkPipelineLayout gen_layout;
-    VkPipeline gen_pipeline[2]; /* [0]: one cell per invocation, [1]: a block of cells */
+    /* Pipelines per noise slot (frt_noise_slot: one per distribution path, its kind a specialization constant) */
+    VkPipeline gen_pipeline[FRT_PIPELINE_SLOTS][2]; /* [slot][0]: one cell per invocation, [slot][1]: a block of cells */
     VkPipelineLayout region_layout;
-    VkPipeline region_pipeline; /* regions: one lattice point per invocation */
+    VkPipeline region_pipeline[FRT_PIPELINE_SLOTS]; /* regions: one lattice point per invocation */
     struct frt_vk_buffer grid;
     struct frt_vk_buffer staging;
+    struct frt_vk_buffer maps; /* §3.5: struct maps_info then the maps' samples, host-visible */
     /* noise_vk.c */
     VkPipelineLayout noise_layout;
     VkPipeline noise_pipeline;
@@ -151,6 +202,10 @@ typedef struct frt_field_out {
     frt_terrain_desc terrain;     /* resolved */
     const char *backend, *device; /* NULL: not recorded */
     float min, max;               /* of the finite heights; 0, 0 when there are none */
+    const double *geotransform;   /* GeoTIFF, as given (NULL: the default); checked by the writer */
+    const char *projection;       /* GeoTIFF, as given (NULL or "": none) */
+    bool has_nodata;              /* GeoTIFF, as given */
+    double nodata;
 } frt_field_out;
 
 /* Checks `desc` (NULL = defaults) and fills `f`; `format` FRT_FILE_DEFAULT takes it from `name`. */
@@ -276,6 +331,14 @@ frt_result frt_obj_write(FILE *fp, const frt_field_out *f, char *err, size_t err
 frt_result frt_obj_read(frt_rd *rd, frt_field_info *info, float *out, size_t out_count);
 frt_result frt_ply_write(FILE *fp, const frt_field_out *f, char *err, size_t err_size);
 frt_result frt_ply_read(frt_rd *rd, frt_field_info *info, float *out, size_t out_count);
+/* format_tiff.c: GDAL opens files by name, so GeoTIFF is written and read by path, not through a FILE*. The writer
+ * makes its own temporary file beside f->name and renames it (atomic_file.c); `json` (FRT_JSON_LINE, may be NULL)
+ * is recorded as the metadata item FRACTERRA. The reader expects `info` zeroed with format and the spacing/z_scale
+ * defaults set (frt_read_stream's start). Both run in the caller's C locale (files.c). Without GDAL both return
+ * FRT_ERROR_UNSUPPORTED. */
+frt_result frt_tiff_write(const frt_field_out *f, const char *json, char *err, size_t err_size);
+frt_result frt_tiff_read(const char *path, frt_field_info *info, float *out, size_t out_count, char *err,
+                         size_t err_size);
 
 /* A writer over a FILE* that remembers the first failure's errno and skips the rest. */
 typedef struct frt_wr {

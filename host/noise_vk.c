@@ -1,15 +1,21 @@
-/* noise_vk.c — runs shaders/noise.comp: Philox words and Gaussians on the device for arbitrary counters. */
+/* noise_vk.c — runs shaders/noise.comp: Philox words, Gaussians and the distributions of §2.8 on the device for
+ * arbitrary counters. */
 #include "internal.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "spv_noise.h"
 
+/* Must match `Push` in shaders/noise.comp. */
 struct noise_push {
     uint64_t counters, keys, words, gauss;
     uint32_t count;
+    uint32_t noise_kind, noise_n; /* 0: raw words and Gaussian; else frt_noise_params kind, n, k, scale */
+    float noise_k, noise_scale;
     uint32_t pad;
 };
+_Static_assert(sizeof(struct noise_push) == 56, "struct noise_push must match Push in shaders/noise.comp");
 
 void frt_noise_vk_release(frt_context *ctx)
 {
@@ -21,8 +27,9 @@ void frt_noise_vk_release(frt_context *ctx)
     ctx->noise_layout = VK_NULL_HANDLE;
 }
 
-frt_result frt_noise_vulkan(frt_context *ctx, const uint32_t *counters, const uint32_t *keys, size_t count,
-                            uint32_t *words_out, float *gauss_out)
+/* `p` NULL: words and the Gaussian of words 0, 1; else the distribution `p` at (i, j, level) = counter words 0..2. */
+static frt_result run_noise(frt_context *ctx, const frt_noise_params *p, const uint32_t *counters, const uint32_t *keys,
+                            size_t count, uint32_t *words_out, float *gauss_out)
 {
     if (!ctx || !counters || !keys || count == 0 || count > (1u << 26))
         return FRT_ERROR_INVALID_ARGUMENT;
@@ -41,8 +48,13 @@ frt_result frt_noise_vulkan(frt_context *ctx, const uint32_t *counters, const ui
     uint8_t *base = buf.mapped;
     memcpy(base, counters, count * 16);
     memcpy(base + count * 16, keys, count * 8);
-    struct noise_push pc = {
-        buf.address, buf.address + count * 16, buf.address + count * 24, buf.address + count * 40, (uint32_t)count, 0};
+    struct noise_push pc;
+    memset(&pc, 0, sizeof pc);
+    pc.counters = buf.address, pc.keys = buf.address + count * 16;
+    pc.words = buf.address + count * 24, pc.gauss = buf.address + count * 40;
+    pc.count = (uint32_t)count;
+    if (p)
+        pc.noise_kind = (uint32_t)p->kind, pc.noise_n = p->n, pc.noise_k = p->k, pc.noise_scale = p->scale;
     VkCommandBuffer cmd;
     r = frt_cmd_begin(ctx, &cmd);
     if (r == FRT_SUCCESS) {
@@ -65,5 +77,29 @@ frt_result frt_noise_vulkan(frt_context *ctx, const uint32_t *counters, const ui
             memcpy(gauss_out, base + count * 40, count * 4);
     }
     frt_buffer_destroy(ctx, &buf);
+    return r;
+}
+
+frt_result frt_noise_vulkan(frt_context *ctx, const uint32_t *counters, const uint32_t *keys, size_t count,
+                            uint32_t *words_out, float *gauss_out)
+{
+    return run_noise(ctx, NULL, counters, keys, count, words_out, gauss_out);
+}
+
+frt_result frt_noise_draw_vulkan(frt_context *ctx, const frt_noise_params *p, const uint32_t *points, size_t count,
+                                 float *out)
+{
+    if (!ctx || !p || !points || !out || count == 0 || count > (1u << 26))
+        return FRT_ERROR_INVALID_ARGUMENT;
+    uint32_t *c = malloc(count * 16), *k = malloc(count * 8);
+    frt_result r = c && k ? FRT_SUCCESS : FRT_ERROR_OUT_OF_MEMORY;
+    for (size_t n = 0; r == FRT_SUCCESS && n < count; ++n) {
+        c[4 * n] = points[3 * n], c[4 * n + 1] = points[3 * n + 1], c[4 * n + 2] = points[3 * n + 2], c[4 * n + 3] = 0;
+        k[2 * n] = p->key[0], k[2 * n + 1] = p->key[1];
+    }
+    if (r == FRT_SUCCESS)
+        r = run_noise(ctx, p, c, k, count, NULL, out);
+    free(c);
+    free(k);
     return r;
 }

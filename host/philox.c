@@ -1,7 +1,9 @@
-/* philox.c — the counter-based noise of the contract: Philox4x32-10 and the Gaussian transform (ALGORITHM.md §2). */
+/* philox.c — the counter-based noise of the contract: Philox4x32-10, the Gaussian transform and the distributions
+ * built on them (ALGORITHM.md §2). */
 #include "internal.h"
 
 #include <float.h>
+#include <math.h>
 #include <string.h>
 
 /* The transform needs every float expression evaluated in float32 (ALGORITHM.md §5): not x87's extended precision.
@@ -128,5 +130,87 @@ float frt_noise(uint64_t seed, uint32_t level, uint32_t i, uint32_t j)
 {
     frt_u32x4 c = {{i, j, level, 0u}};
     frt_u32x4 w = frt_philox4x32_10(c, (uint32_t)seed, (uint32_t)(seed >> 32));
+    return frt_gauss_from_words(w.v[0], w.v[1]);
+}
+
+/* ---- The distributions (ALGORITHM.md §2.8) ----
+ * Each step is one float32 operation of the spec, in its order; shaders/philox.glsl frt_noise_draw is the same code.
+ * The first Philox call (the fourth counter word 0) is the gauss value, truncated's attempt 0 and clt's uniforms
+ * 0..3. */
+
+#define TRUNCATED_ATTEMPTS 64u
+
+double frt_truncated_scale(double k)
+{
+    /* Var_K = 1 - 2 K phi(K) / (2 Phi(K) - 1); 2 Phi(K) - 1 = erf(K / sqrt 2), phi(K) = exp(-K^2/2) / sqrt(2 pi). */
+    const double phi = exp(-0.5 * k * k) / sqrt(2.0 * 3.14159265358979323846);
+    const double var = 1.0 - 2.0 * k * phi / erf(k / sqrt(2.0));
+    return 1.0 / sqrt(var);
+}
+
+void frt_noise_params_init(frt_noise_params *p, const frt_terrain_desc *d)
+{
+    memset(p, 0, sizeof *p);
+    p->key[0] = (uint32_t)d->seed;
+    p->key[1] = (uint32_t)(d->seed >> 32);
+    p->kind = d->noise == FRT_NOISE_DEFAULT ? FRT_NOISE_GAUSS : d->noise;
+    p->scale = 1.0f;
+    switch (p->kind) {
+    case FRT_NOISE_TRUNCATED:
+        p->k = (float)d->noise_param;
+        p->scale = (float)frt_truncated_scale(d->noise_param);
+        break;
+    case FRT_NOISE_CLT:
+    case FRT_NOISE_UNIFORM:
+        p->n = p->kind == FRT_NOISE_UNIFORM ? 1u : (uint32_t)d->noise_param;
+        p->scale = (float)sqrt(12.0 / (double)p->n);
+        break;
+    default: break;
+    }
+}
+
+/* Truncated: rejection with the attempt t in the counter's 4th word; all 64 rejected (p < 1e-31 for K >= 1): 0. */
+static float draw_truncated(const frt_noise_params *p, frt_u32x4 c)
+{
+    float g = 0.0f;
+    uint32_t t = 0;
+    do {
+        c.v[3] = t;
+        frt_u32x4 w = frt_philox4x32_10(c, p->key[0], p->key[1]);
+        g = frt_gauss_from_words(w.v[0], w.v[1]);
+    } while (fabsf(g) > p->k && ++t < TRUNCATED_ATTEMPTS);
+    if (fabsf(g) > p->k)
+        g = 0.0f;
+    return g * p->scale;
+}
+
+/* Clt and uniform: u_m = float(word m mod 4 of the call with 4th counter word m / 4) * 2^-32, summed left to right
+ * from u_0, then (s - N/2) * C_N (N/2 is exact). */
+static float draw_clt(const frt_noise_params *p, frt_u32x4 c)
+{
+    frt_u32x4 w = {{0}};
+    float s = 0.0f; /* 0 + u_0 = u_0 exactly */
+    for (uint32_t m = 0; m < p->n; ++m) {
+        if ((m & 3u) == 0) {
+            c.v[3] = m >> 2;
+            w = frt_philox4x32_10(c, p->key[0], p->key[1]);
+        }
+        s = s + (float)w.v[m & 3u] * 0x1p-32f;
+    }
+    return (s - (float)p->n * 0.5f) * p->scale;
+}
+
+/* The gauss path is frt_noise itself, tested first and kept free of the others' code: the CPU reference calls this
+ * for every point, and the other paths inlined beside it made it 5-10% slower. */
+float frt_noise_draw(const frt_noise_params *p, uint32_t level, uint32_t i, uint32_t j)
+{
+    const frt_u32x4 c = {{i, j, level, 0u}};
+    if (p->kind != FRT_NOISE_GAUSS) { /* one test on the gauss path */
+        if (p->kind == FRT_NOISE_TRUNCATED)
+            return draw_truncated(p, c);
+        if (p->kind == FRT_NOISE_CLT || p->kind == FRT_NOISE_UNIFORM)
+            return draw_clt(p, c);
+    }
+    const frt_u32x4 w = frt_philox4x32_10(c, p->key[0], p->key[1]);
     return frt_gauss_from_words(w.v[0], w.v[1]);
 }

@@ -25,27 +25,120 @@ static float square_mean(const float *h, uint32_t side, uint32_t x, uint32_t y, 
     return ((nb[0] + nb[1]) + nb[2]) * frt_one_third();
 }
 
-/* Periodic mode (§3.1): side M = 2^n, coordinates mod M, every square point has 4 neighbours. */
-static void generate_periodic(const frt_terrain_desc *d, float *out)
+/* The amplitude of a point created at `level` at lattice (i, j): the level's `base` (sD or sS, or sigma at level
+ * 0) unless maps vary it by area (§3.5). */
+static inline float amp_at(const frt_terrain_desc *d, bool maps, uint32_t level, bool diamond, uint32_t i, uint32_t j,
+                           float base)
+{
+    return maps ? frt_point_amplitude(d, level, diamond, i, j, base) : base;
+}
+
+/* Densify (§3.4): a known height replaces the computed one; NaN (no data) keeps the computed one. */
+static float keep_known(const float *known, size_t index, float computed)
+{
+    return known && known[index] == known[index] ? known[index] : computed;
+}
+
+/* Periodic mode (§3.1): side M = 2^n, coordinates mod M, every square point has 4 neighbours. Levels first..n;
+ * `known` (NULL or the same M x M grid) overrides computed heights where it is not NaN. */
+static void generate_periodic(const frt_terrain_desc *d, float *out, uint32_t first, const float *known)
 {
     const uint32_t n = d->levels, M = 1u << n, mask = M - 1u;
+    frt_noise_params np; /* §2.8 */
+    frt_noise_params_init(&np, d);
+    const bool maps = d->hurst_map.data || d->amplitude_map.data;
 #define P(x, y) out[(size_t)((y)&mask) * M + ((x)&mask)]
-    P(0u, 0u) = (float)d->sigma * frt_noise(d->seed, 0, 0, 0);
-    for (uint32_t level = 1; level <= n; ++level) {
+    if (first == 0)
+        P(0u, 0u) =
+            keep_known(known, 0, amp_at(d, maps, 0, false, 0, 0, (float)d->sigma) * frt_noise_draw(&np, 0, 0, 0));
+    for (uint32_t level = first ? first : 1; level <= n; ++level) {
         const uint32_t s = 1u << (n - level);
         const float sd = frt_sigma_diamond(d, level), ss = frt_sigma_square(d, level);
         for (uint32_t y = s; y < M; y += 2 * s)
             for (uint32_t x = s; x < M; x += 2 * s) {
                 float mean = ((P(x - s, y - s) + P(x + s, y - s)) + (P(x - s, y + s) + P(x + s, y + s))) * 0.25f;
-                P(x, y) = mean + sd * frt_noise(d->seed, level, x / s, y / s);
+                P(x, y) = keep_known(known, (size_t)y * M + x,
+                                     mean + amp_at(d, maps, level, true, x / s, y / s, sd) *
+                                                frt_noise_draw(&np, level, x / s, y / s));
             }
         for (uint32_t y = 0; y < M; y += s)
             for (uint32_t x = ((y / s) % 2 == 0) ? s : 0; x < M; x += 2 * s) {
                 float mean = ((P(x - s, y) + P(x + s, y)) + (P(x, y - s) + P(x, y + s))) * 0.25f; /* W E N S */
-                P(x, y) = mean + ss * frt_noise(d->seed, level, x / s, y / s);
+                P(x, y) = keep_known(known, (size_t)y * M + x,
+                                     mean + amp_at(d, maps, level, false, x / s, y / s, ss) *
+                                                frt_noise_draw(&np, level, x / s, y / s));
             }
     }
 #undef P
+}
+
+/* FFC mode (§3): side 2^n + 1. Levels first..n, `known` as above. */
+static void generate_ffc(const frt_terrain_desc *d, float *out, uint32_t first, const float *known)
+{
+    const uint32_t n = d->levels, side = frt_grid_side(n), full = side - 1;
+    const float sigma = (float)d->sigma;
+    frt_noise_params np; /* §2.8 */
+    frt_noise_params_init(&np, d);
+    const bool maps = d->hurst_map.data || d->amplitude_map.data;
+    /* Level 0: the four corners, noise at unit-square positions (0|1, 0|1). */
+    if (first == 0)
+        for (uint32_t j = 0; j <= 1; ++j)
+            for (uint32_t i = 0; i <= 1; ++i) {
+                const size_t at = (size_t)(j * full) * side + i * full;
+                out[at] = keep_known(known, at, amp_at(d, maps, 0, false, i, j, sigma) * frt_noise_draw(&np, 0, i, j));
+            }
+
+    for (uint32_t level = first ? first : 1; level <= n; ++level) {
+        const uint32_t s = 1u << (n - level);
+        const float sd = frt_sigma_diamond(d, level), ss = frt_sigma_square(d, level);
+        /* Diamond points: x/s and y/s both odd; parents are the four diagonal corners. */
+        for (uint32_t y = s; y < full; y += 2 * s)
+            for (uint32_t x = s; x < full; x += 2 * s) {
+                float a = out[(size_t)(y - s) * side + (x - s)], b = out[(size_t)(y - s) * side + (x + s)];
+                float c = out[(size_t)(y + s) * side + (x - s)], e = out[(size_t)(y + s) * side + (x + s)];
+                float mean = ((a + b) + (c + e)) * 0.25f;
+                out[(size_t)y * side + x] = keep_known(known, (size_t)y * side + x,
+                                                       mean + amp_at(d, maps, level, true, x / s, y / s, sd) *
+                                                                  frt_noise_draw(&np, level, x / s, y / s));
+            }
+        /* Square points: exactly one of x/s, y/s odd; they read only corners and diamond points. */
+        for (uint32_t y = 0; y <= full; y += s)
+            for (uint32_t x = ((y / s) % 2 == 0) ? s : 0; x <= full; x += 2 * s)
+                out[(size_t)y * side + x] =
+                    keep_known(known, (size_t)y * side + x,
+                               square_mean(out, side, x, y, s) + amp_at(d, maps, level, false, x / s, y / s, ss) *
+                                                                     frt_noise_draw(&np, level, x / s, y / s));
+    }
+}
+
+frt_result frt_coarse_complete(const frt_terrain_desc *d, float **completed)
+{
+    frt_terrain_desc dk = *d;
+    dk.levels = d->coarse_levels;
+    dk.region = (frt_region){0};
+    const size_t side = frt_grid_side(dk.levels) - (d->edge == FRT_EDGE_PERIODIC ? 1u : 0u);
+    float *c = malloc(side * side * sizeof *c);
+    if (!c)
+        return FRT_ERROR_OUT_OF_MEMORY;
+    if (d->edge == FRT_EDGE_PERIODIC)
+        generate_periodic(&dk, c, 0, d->coarse);
+    else
+        generate_ffc(&dk, c, 0, d->coarse);
+    *completed = c;
+    return FRT_SUCCESS;
+}
+
+void frt_coarse_box(const frt_terrain_desc *d, const float *completed, const frt_box *box, float *out)
+{
+    const uint32_t k = d->coarse_levels;
+    const int64_t side = (int64_t)frt_grid_side(k) - (d->edge == FRT_EDGE_PERIODIC ? 1 : 0);
+    for (uint32_t y = 0; y < box->height; ++y)
+        for (uint32_t x = 0; x < box->width; ++x) {
+            int64_t a = box->x + x, b = box->y + y;
+            if (d->edge == FRT_EDGE_PERIODIC) /* side is a power of two: & wraps negative coordinates too */
+                a &= side - 1, b &= side - 1;
+            out[(size_t)y * box->width + x] = completed[(size_t)b * (size_t)side + (size_t)a];
+        }
 }
 
 /* ---- Regions (§3.2): level by level, only the lattice boxes the window needs ---- */
@@ -60,6 +153,8 @@ typedef struct region_level {
     uint32_t lmask; /* periodic: lattice coordinates mod 2^l */
     bool periodic;
     float sd, ss;
+    const frt_noise_params *np; /* §2.8 */
+    bool maps;                  /* §3.5 */
 } region_level;
 
 static float parent(const region_level *r, int64_t a, int64_t b) /* a, b even: the level-(l-1) point */
@@ -67,14 +162,15 @@ static float parent(const region_level *r, int64_t a, int64_t b) /* a, b even: t
     return r->src[(size_t)((b >> 1) - r->sb.y) * r->sb.width + (size_t)((a >> 1) - r->sb.x)];
 }
 
-static float region_noise(const region_level *r, int64_t a, int64_t b)
+/* amp * g of the point at lattice (a, b), wrapped in periodic mode (two's complement: -1 -> 2^32 - 1, masked) */
+static float region_step(const region_level *r, int64_t a, int64_t b, bool diamond, float base)
 {
-    uint32_t i = (uint32_t)a, j = (uint32_t)b; /* two's complement: -1 -> 2^32 - 1, then masked */
+    uint32_t i = (uint32_t)a, j = (uint32_t)b;
     if (r->periodic) {
         i &= r->lmask;
         j &= r->lmask;
     }
-    return frt_noise(r->d->seed, r->level, i, j);
+    return amp_at(r->d, r->maps, r->level, diamond, i, j, base) * frt_noise_draw(r->np, r->level, i, j);
 }
 
 static float diamond(const region_level *r, int64_t a, int64_t b) /* a, b odd */
@@ -82,7 +178,7 @@ static float diamond(const region_level *r, int64_t a, int64_t b) /* a, b odd */
     float mean =
         ((parent(r, a - 1, b - 1) + parent(r, a + 1, b - 1)) + (parent(r, a - 1, b + 1) + parent(r, a + 1, b + 1))) *
         0.25f;
-    return mean + r->sd * region_noise(r, a, b);
+    return mean + region_step(r, a, b, true, r->sd);
 }
 
 static float corner_or_diamond(const region_level *r, int64_t a, int64_t b)
@@ -103,10 +199,10 @@ static float square(const region_level *r, int64_t a, int64_t b) /* exactly one 
     if (r->periodic || b + 1 <= r->last)
         nb[n++] = corner_or_diamond(r, a, b + 1); /* S */
     float mean = n == 4 ? ((nb[0] + nb[1]) + (nb[2] + nb[3])) * 0.25f : ((nb[0] + nb[1]) + nb[2]) * frt_one_third();
-    return mean + r->ss * region_noise(r, a, b);
+    return mean + region_step(r, a, b, false, r->ss);
 }
 
-static frt_result generate_region(const frt_terrain_desc *d, float *out)
+static frt_result generate_region(const frt_terrain_desc *d, float *out, const float *completed)
 {
     frt_box boxes[FRT_MAX_REGION_LEVELS + 1];
     frt_region_boxes(d, boxes);
@@ -120,9 +216,16 @@ static frt_result generate_region(const frt_terrain_desc *d, float *out)
     if (!buf)
         return FRT_ERROR_OUT_OF_MEMORY;
     const bool periodic = d->edge == FRT_EDGE_PERIODIC;
-    for (uint32_t l = 0; l <= n; ++l) {
+    const uint32_t first = completed ? d->coarse_levels : 0;
+    frt_noise_params np; /* §2.8 */
+    frt_noise_params_init(&np, d);
+    for (uint32_t l = first; l <= n; ++l) {
         const frt_box db = boxes[l];
         float *dst = l == n ? out : buf + (l & 1) * scratch;
+        if (completed && l == first) { /* densify: level k's box is the completed coarse grid's */
+            frt_coarse_box(d, completed, &db, dst);
+            continue;
+        }
         region_level r = {d,
                           l,
                           buf + ((l + 1) & 1) * scratch,
@@ -131,7 +234,9 @@ static frt_result generate_region(const frt_terrain_desc *d, float *out)
                           (uint32_t)(((uint64_t)1 << l) - 1),
                           periodic,
                           0.0f,
-                          0.0f};
+                          0.0f,
+                          &np,
+                          d->hurst_map.data || d->amplitude_map.data};
         if (l) {
             r.sd = frt_sigma_diamond(d, l);
             r.ss = frt_sigma_square(d, l);
@@ -141,7 +246,7 @@ static frt_result generate_region(const frt_terrain_desc *d, float *out)
                 const int64_t a = db.x + x, b = db.y + y;
                 float v;
                 if (l == 0) /* FFC: a corner (a, b in 0..1); periodic: every point is (0, 0) */
-                    v = (float)d->sigma * region_noise(&r, a, b);
+                    v = region_step(&r, a, b, false, (float)d->sigma);
                 else if (!(a & 1) && !(b & 1))
                     v = parent(&r, a, b);
                 else if ((a & 1) && (b & 1))
@@ -167,43 +272,33 @@ frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out
     if (!out || out_count < count)
         return FRT_ERROR_BUFFER_TOO_SMALL;
 
-    if (frt_region_is_set(&d.region)) {
-        frt_result r = generate_region(&d, out);
+    float *completed = NULL;
+    if (d.coarse) {
+        frt_result r = frt_coarse_complete(&d, &completed);
         if (r != FRT_SUCCESS)
             return r;
-        goto done;
     }
-    const uint32_t n = d.levels, side = frt_grid_side(n), full = side - 1;
-    const float sigma = (float)d.sigma;
-    memset(out, 0, count * sizeof *out);
-    if (d.edge == FRT_EDGE_PERIODIC) {
-        generate_periodic(&d, out);
-        goto done;
+    frt_result r = FRT_SUCCESS;
+    if (frt_region_is_set(&d.region)) {
+        r = generate_region(&d, out, completed);
+    } else if (completed) { /* the completed coarse grid at spacing 2^(n-k), then levels k+1..n */
+        const uint32_t k = d.coarse_levels, step = 1u << (d.levels - k), side = frt_terrain_side(&d);
+        const uint32_t cs = frt_grid_side(k) - (d.edge == FRT_EDGE_PERIODIC ? 1u : 0u);
+        for (uint32_t y = 0; y < cs; ++y)
+            for (uint32_t x = 0; x < cs; ++x)
+                out[(size_t)(y * step) * side + x * step] = completed[(size_t)y * cs + x];
+        if (d.edge == FRT_EDGE_PERIODIC)
+            generate_periodic(&d, out, k + 1, NULL);
+        else
+            generate_ffc(&d, out, k + 1, NULL);
+    } else if (d.edge == FRT_EDGE_PERIODIC) {
+        generate_periodic(&d, out, 0, NULL);
+    } else {
+        generate_ffc(&d, out, 0, NULL);
     }
-
-    /* Level 0: the four corners, noise at unit-square positions (0|1, 0|1). */
-    for (uint32_t j = 0; j <= 1; ++j)
-        for (uint32_t i = 0; i <= 1; ++i)
-            out[(size_t)(j * full) * side + i * full] = sigma * frt_noise(d.seed, 0, i, j);
-
-    for (uint32_t level = 1; level <= n; ++level) {
-        const uint32_t s = 1u << (n - level);
-        const float sd = frt_sigma_diamond(&d, level), ss = frt_sigma_square(&d, level);
-        /* Diamond points: x/s and y/s both odd; parents are the four diagonal corners. */
-        for (uint32_t y = s; y < full; y += 2 * s)
-            for (uint32_t x = s; x < full; x += 2 * s) {
-                float a = out[(size_t)(y - s) * side + (x - s)], b = out[(size_t)(y - s) * side + (x + s)];
-                float c = out[(size_t)(y + s) * side + (x - s)], e = out[(size_t)(y + s) * side + (x + s)];
-                float mean = ((a + b) + (c + e)) * 0.25f;
-                out[(size_t)y * side + x] = mean + sd * frt_noise(d.seed, level, x / s, y / s);
-            }
-        /* Square points: exactly one of x/s, y/s odd; they read only corners and diamond points. */
-        for (uint32_t y = 0; y <= full; y += s)
-            for (uint32_t x = ((y / s) % 2 == 0) ? s : 0; x <= full; x += 2 * s)
-                out[(size_t)y * side + x] =
-                    square_mean(out, side, x, y, s) + ss * frt_noise(d.seed, level, x / s, y / s);
-    }
-done:
+    free(completed);
+    if (r != FRT_SUCCESS)
+        return r;
     if (info) {
         double t = frt_now_seconds() - t0;
         info->device_seconds = t;

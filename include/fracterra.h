@@ -65,6 +65,24 @@ typedef struct frt_region {
     uint32_t width, height;
 } frt_region;
 
+/* The distribution of the displacements (docs/ALGORITHM.md §2.8), each scaled to unit variance so that sigma keeps
+ * its meaning. */
+typedef enum frt_noise_kind {
+    FRT_NOISE_DEFAULT = 0,
+    FRT_NOISE_GAUSS = 1,     /* Box-Muller Gaussian (§2.2) */
+    FRT_NOISE_TRUNCATED = 2, /* Gaussian conditioned on |g| <= K (noise_param, 0 -> 3), by rejection: the chopped
+                                Gaussian of the 1988 report */
+    FRT_NOISE_CLT = 3,       /* sum of N uniforms (noise_param, 0 -> 4): the thesis's and Peitgen & Saupe's Gauss() */
+    FRT_NOISE_UNIFORM = 4    /* uniform on [-sqrt 3, sqrt 3] */
+} frt_noise_kind;
+
+/* A map over the unit square: width x height samples, row-major, sample (0, 0) at the corner (0, 0) and
+ * (width-1, height-1) at (1, 1); sampled bilinearly (§3.5). */
+typedef struct frt_map {
+    const float *data; /* NULL: no map */
+    uint32_t width, height;
+} frt_map;
+
 typedef struct frt_terrain_desc {
     uint32_t levels;       /* n: grid side is 2^n + 1; 0 -> 9; valid 1..FRT_MAX_LEVELS, or ..FRT_MAX_REGION_LEVELS
                               with a region */
@@ -74,6 +92,14 @@ typedef struct frt_terrain_desc {
     bool seed_is_explicit; /* true: use `seed` as given, even 0 */
     frt_edge edge;         /* 0 -> FRT_EDGE_FFC */
     frt_region region;     /* all zero -> the whole grid */
+    frt_noise_kind noise;  /* 0 -> FRT_NOISE_GAUSS */
+    double noise_param;    /* truncated: K in [1, 6], 0 -> 3; clt: N, an integer 1..16, 0 -> 4; others: 0 */
+    /* Densify (§3.4): known heights on the (2^k+1)^2 grid, k = coarse_levels (1..levels), row-major; they are placed
+     * at spacing 2^(levels-k) and kept bit-exactly; NaN marks no data, filled at the level that creates the point. */
+    const float *coarse;
+    uint32_t coarse_levels;
+    frt_map hurst_map;     /* optional: H per location, values in (0, 1) (§3.5) */
+    frt_map amplitude_map; /* optional: a finite factor on sigma per location (§3.5) */
 } frt_terrain_desc;
 
 /* Fills `out` with `in` (NULL = all defaults) with every default made explicit, and checks ranges.
@@ -111,6 +137,26 @@ typedef struct frt_run_info {
  * outside it.
  * `info` may be NULL. */
 frt_result frt_generate_cpu(const frt_terrain_desc *desc, float *out, size_t out_count, frt_run_info *info);
+
+/* ---- Roughness of known heights (estimate.c) ---- */
+
+#define FRT_ROUGHNESS_MIN_HURST 0.05
+#define FRT_ROUGHNESS_MAX_HURST 0.95
+
+typedef struct frt_roughness {
+    double hurst;           /* H, within [FRT_ROUGHNESS_MIN_HURST, FRT_ROUGHNESS_MAX_HURST] */
+    double sigma;           /* amplitude in the contract's units (§3: the grid spans the unit square) */
+    bool clamped;           /* the fitted H lay outside that range and was clamped */
+    uint32_t coarse_levels; /* k of the (2^k+1)^2 grid */
+    uint32_t steps;         /* diamond and square steps in the fit */
+    uint64_t residuals;     /* midpoint residuals in the fit */
+} frt_roughness;
+
+/* Estimates H and sigma of a (2^k+1)^2 grid `h` (row-major, NaN = no data) so that densifying it continues its
+ * statistics: the variogram of its midpoint residuals per level, Var = sigma^2 2^(-2tH), fitted by weighted least
+ * squares (docs/ALGORITHM.md §3.6). FRT_ERROR_INVALID_ARGUMENT when side is not 2^k+1 or fewer than three steps
+ * have 16 known residuals (at least a 9 x 9 grid), or the grid is flat. */
+frt_result frt_estimate_roughness(const float *h, uint32_t side, frt_roughness *out);
 
 /* ---- Vulkan ---- */
 
@@ -185,7 +231,9 @@ typedef enum frt_file_format {
     FRT_FILE_F32 = 3,     /* raw little-endian float32, row-major, with a FILE.json sidecar */
     FRT_FILE_NPY = 4,     /* NumPy .npy, '<f4', C order */
     FRT_FILE_OBJ = 5,     /* Wavefront OBJ triangle mesh with vertex normals */
-    FRT_FILE_PLY = 6      /* binary little-endian PLY triangle mesh with vertex normals */
+    FRT_FILE_PLY = 6,     /* binary little-endian PLY triangle mesh with vertex normals */
+    FRT_FILE_TIFF = 7     /* GeoTIFF (.tif, .tiff) through GDAL: float32, georeferenced; reads any sample type.
+                             FRT_ERROR_UNSUPPORTED when built without GDAL (FRT_WITH_GDAL=OFF) */
 } frt_file_format;
 
 /* The format named by `path`'s extension (case-insensitive), or FRT_FILE_DEFAULT when it names none. */
@@ -205,6 +253,15 @@ typedef struct frt_write_desc {
     const frt_terrain_desc *terrain; /* optional: the parameters that made the field, recorded as metadata */
     const char *backend;             /* optional: "vulkan" or "cpu", recorded */
     const char *device;              /* optional: device name, recorded */
+    /* GeoTIFF only. Affine map from (column, row) of the pixel corner to the map (GDAL's order): X = g[0] + col g[1]
+     * + row g[2], Y = g[3] + col g[4] + row g[5]. NULL -> north up, pixel centres where the OBJ/PLY vertices lie:
+     * {-spacing_x/2, spacing_x, 0, (height - 1/2) spacing_y, 0, -spacing_y}; a region of `terrain` is placed where
+     * it lies in its whole grid (column region.x at x = region.x spacing_x), so that tiles line up */
+    const double *geotransform;
+    const char *projection; /* GeoTIFF: the CRS, WKT or what OSRSetFromUserInput takes ("EPSG:32633"); NULL: none */
+    bool has_nodata;        /* GeoTIFF: NaN heights are stored as `nodata` (a float32 value, or NaN; no finite height
+                               may equal it). false: NaN itself is the nodata value when the field has NaNs */
+    double nodata;
 } frt_write_desc;
 
 /* Writes a width x height heightfield h[y*width + x] to `path`. The file (and the .f32 sidecar) is written to a
@@ -218,7 +275,7 @@ frt_result frt_write_heightfield(const char *path, const float *h, uint32_t widt
 typedef struct frt_field_info {
     frt_file_format format;
     uint32_t width, height;
-    uint32_t bits;               /* bits per stored sample: 8 or 16 (PNG, PGM), 32 or 64 (float) */
+    uint32_t bits;               /* bits per stored sample: 8 or 16 (PNG, PGM), 32 or 64 (float); GeoTIFF: its type's */
     bool has_terrain;            /* the file records the parameters that made it (fracterra wrote it) */
     frt_terrain_desc terrain;    /* valid when has_terrain */
     bool has_range;              /* quantised samples were mapped back to the recorded [min, max] */
@@ -227,6 +284,13 @@ typedef struct frt_field_info {
     float min, max;              /* of the heights as read (set by frt_read_heightfield only) */
     char backend[16];            /* as recorded, else "" */
     char device[256];            /* as recorded, else "" */
+    /* GeoTIFF: the georeferencing as GDAL reads it. spacing_x/y above come from the parameters fracterra recorded,
+     * else from a north-up geotransform (|g[1]|, |g[5]|) unless the CRS is geographic (degrees are no height unit). */
+    bool has_geotransform;
+    double geotransform[6]; /* GDAL's order (frt_write_desc); {0, 1, 0, 0, 0, 1} when none */
+    char projection[8192];  /* the CRS as WKT, "" if none; a longer one fails the read (FRT_ERROR_UNSUPPORTED) */
+    bool has_nodata;        /* samples equal to `nodata` (and NaN samples) were read as NaN */
+    double nodata;          /* in stored units, before any scale/offset */
 } frt_field_info;
 
 /* Reads only the header of `path` (and its sidecar): format, size and metadata; min/max are left 0. */
@@ -234,7 +298,9 @@ frt_result frt_read_heightfield_info(const char *path, frt_field_info *info, cha
 
 /* Reads the heights into `out` (at least width*height floats, from frt_read_heightfield_info); never writes
  * outside it. Quantised samples map back to the recorded [min, max] (within one quantum) when the file has
- * them, else to the raw sample values. Meshes read back when their vertices form the regular grid that
+ * them, else to the raw sample values. GeoTIFF: the one band of a single-band file (several bands are
+ * FRT_ERROR_UNSUPPORTED), any real sample type, times the band's scale plus its offset when it has them; samples
+ * equal to its nodata value, and NaN, read as NaN. Meshes read back when their vertices form the regular grid that
  * fracterra writes (z / z_scale). `info` may be NULL. Truncated, malformed or inconsistent files give
  * FRT_ERROR_IO or FRT_ERROR_INVALID_ARGUMENT with a message naming the problem. */
 frt_result frt_read_heightfield(const char *path, float *out, size_t out_count, frt_field_info *info, char *err,

@@ -11,6 +11,7 @@ PACKAGES=(
   libcairo2-dev                   # profile plots: anti-aliased PNG, SVG and PDF
   libgif-dev                      # giflib: animated GIF of the growth frames
   libjson-c-dev                   # json-c: the .f32 sidecar and other metadata (64-bit seeds exact)
+  libgdal-dev                     # GDAL: GeoTIFF in and out (optional at build time: -DFRT_WITH_GDAL=OFF)
   pkg-config                      # finds cairo and json-c at configure time
   vulkan-validationlayers         # VK_LAYER_KHRONOS_validation for the tests
   vulkan-tools                    # vulkaninfo, for troubleshooting

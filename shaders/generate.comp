@@ -11,6 +11,7 @@
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
+#include "maps.glsl"
 #include "midpoint.glsl"
 #include "philox.glsl"
 
@@ -33,6 +34,10 @@ layout(push_constant, std430) uniform Push {
     float amp_s;   // sS(l)
     uint mask;     // periodic (a torus, §3.1): side - 1, coordinates wrap; FFC: all ones, a no-op
     uint lmask;    // periodic: 2^l - 1, noise lattice coordinates wrap; FFC: all ones
+    uint noise_n;    // §2.8, as frt_noise_params: N, K as float, S_K or sqrt(12/N); the kind is FRT_NOISE_KIND
+    float noise_k;
+    float noise_scale;
+    uint64_t maps; // §3.5: address of the maps' FrtMapInfo (used when FRT_MAPS is 1)
 } pc;
 
 bool periodic() { return pc.mask != 0xFFFFFFFFu; }
@@ -41,9 +46,18 @@ bool periodic() { return pc.mask != 0xFFFFFFFFu; }
 // Unsigned arithmetic wraps mod 2^32, a multiple of the periodic side, so (x - s) & mask is x - s mod side.
 int at(uint x, uint y) { return int((y & pc.mask) * pc.side + (x & pc.mask)); }
 
-float noise(uint i, uint j) { return frt_noise(pc.level, i & pc.lmask, j & pc.lmask, pc.key); }
+float noise(uint i, uint j)
+{
+    return frt_noise_draw(FRT_NOISE_KIND, pc.noise_n, pc.noise_k, pc.noise_scale, pc.level, i & pc.lmask, j & pc.lmask,
+                          pc.key);
+}
 
-float displace(float mean, float amp, uint i, uint j) { return frt_displace(mean, amp, noise(i, j)); }
+// mean + amp * g(i, j); the amplitude varies by area with maps (§3.5)
+float displace(float mean, float amp, bool diamond, uint i, uint j)
+{
+    return frt_displace(mean, frt_point_amplitude(pc.maps, pc.level, diamond, i & pc.lmask, j & pc.lmask, amp),
+                        noise(i, j));
+}
 float mean4(float a, float b, float c, float d) { return frt_mean4(a, b, c, d); }
 float mean3(float a, float b, float c) { return frt_mean3(a, b, c); }
 
@@ -54,7 +68,8 @@ void main()
         uvec2 ij = gl_GlobalInvocationID.xy;
         const uint corners = periodic() ? 1u : 2u; // periodic: the single point (0, 0)
         if (ij.x < corners && ij.y < corners) {
-            precise float v = pc.amp_d * noise(ij.x, ij.y);
+            precise float v =
+                frt_point_amplitude(pc.maps, 0u, false, ij.x & pc.lmask, ij.y & pc.lmask, pc.amp_d) * noise(ij.x, ij.y);
             h.v[at(ij.x * (pc.side - 1u), ij.y * (pc.side - 1u))] = v;
         }
         return;
@@ -72,7 +87,7 @@ void main()
     float ctr[BLOCK][BLOCK];
     for (uint r = 0; r < BLOCK; ++r)
         for (uint q = 0; q < BLOCK; ++q)
-            ctr[r][q] = displace(mean4(cor[r][q], cor[r][q + 1], cor[r + 1][q], cor[r + 1][q + 1]), pc.amp_d,
+            ctr[r][q] = displace(mean4(cor[r][q], cor[r][q + 1], cor[r + 1][q], cor[r + 1][q + 1]), pc.amp_d, true,
                                  2u * (cx0 + q) + 1u, 2u * (cy0 + r) + 1u);
 
     // Centres of the neighbouring cells above and to the left, recomputed (they exist unless on an FFC border;
@@ -84,7 +99,7 @@ void main()
         for (uint q = 0; q <= BLOCK; ++q)
             a[q] = h.v[at((cx0 + q) * s2, (cy0 - 1u) * s2)];
         for (uint q = 0; q < BLOCK; ++q)
-            up[q] = displace(mean4(a[q], a[q + 1], cor[0][q], cor[0][q + 1]), pc.amp_d, 2u * (cx0 + q) + 1u,
+            up[q] = displace(mean4(a[q], a[q + 1], cor[0][q], cor[0][q + 1]), pc.amp_d, true, 2u * (cx0 + q) + 1u,
                              2u * cy0 - 1u);
     }
     if (has_left) {
@@ -92,7 +107,7 @@ void main()
         for (uint r = 0; r <= BLOCK; ++r)
             b[r] = h.v[at((cx0 - 1u) * s2, (cy0 + r) * s2)];
         for (uint r = 0; r < BLOCK; ++r)
-            left[r] = displace(mean4(b[r], cor[r][0], b[r + 1], cor[r + 1][0]), pc.amp_d, 2u * cx0 - 1u,
+            left[r] = displace(mean4(b[r], cor[r][0], b[r + 1], cor[r + 1][0]), pc.amp_d, true, 2u * cx0 - 1u,
                                2u * (cy0 + r) + 1u);
     }
 
@@ -109,7 +124,7 @@ void main()
                 top = mean4(cor[r][q], cor[r][q + 1], up[q], ctr[r][q]);
             else
                 top = mean3(cor[r][q], cor[r][q + 1], ctr[r][q]);
-            h.v[at((i + 1u) * s, j * s)] = displace(top, pc.amp_s, i + 1u, j);
+            h.v[at((i + 1u) * s, j * s)] = displace(top, pc.amp_s, false, i + 1u, j);
             // left midpoint: W centre of the cell to the left; E this centre; N, S corners
             float lm;
             if (q > 0u)
@@ -118,7 +133,7 @@ void main()
                 lm = mean4(left[r], ctr[r][q], cor[r][q], cor[r + 1][q]);
             else
                 lm = mean3(ctr[r][q], cor[r][q], cor[r + 1][q]);
-            h.v[at(i * s, (j + 1u) * s)] = displace(lm, pc.amp_s, i, j + 1u);
+            h.v[at(i * s, (j + 1u) * s)] = displace(lm, pc.amp_s, false, i, j + 1u);
         }
     }
     if (periodic())
@@ -127,14 +142,14 @@ void main()
         for (uint q = 0; q < BLOCK; ++q) {
             const uint i = 2u * (cx0 + q) + 1u;
             float m = mean3(cor[BLOCK][q], cor[BLOCK][q + 1], ctr[BLOCK - 1][q]);
-            h.v[at(i * s, 2u * C * s)] = displace(m, pc.amp_s, i, 2u * C);
+            h.v[at(i * s, 2u * C * s)] = displace(m, pc.amp_s, false, i, 2u * C);
         }
     }
     if (cx0 + BLOCK == C) { // right border midpoints: W, N, S exist
         for (uint r = 0; r < BLOCK; ++r) {
             const uint j = 2u * (cy0 + r) + 1u;
             float m = mean3(ctr[r][BLOCK - 1], cor[r][BLOCK], cor[r + 1][BLOCK]);
-            h.v[at(2u * C * s, j * s)] = displace(m, pc.amp_s, 2u * C, j);
+            h.v[at(2u * C * s, j * s)] = displace(m, pc.amp_s, false, 2u * C, j);
         }
     }
 }

@@ -102,11 +102,50 @@ float frt_gauss(uint w0, uint w1)
     return g;
 }
 
-// g(level, i, j) of the contract.
+// g(level, i, j) of the contract: the Gaussian (§2.2).
 float frt_noise(uint level, uint i, uint j, uvec2 key)
 {
     uvec4 w = frt_philox4x32_10(uvec4(i, j, level, 0u), key);
     return frt_gauss(w.x, w.y);
+}
+
+// The distributions of §2.8; host/philox.c frt_noise_draw is the same code, step for step. kind is frt_noise_kind
+// (1 gauss, 2 truncated, 3 clt, 4 uniform = clt with n = 1), n = N, k = K rounded to float, scale = S_K or
+// sqrt(12/N). The first Philox call (4th counter word 0) is shared: it is the gauss value, truncated's attempt 0
+// and clt's uniforms 0..3.
+const uint FRT_NOISE_TRUNCATED = 2u;
+// The generator's shaders pass `kind` as this specialization constant, so that each pipeline holds only its own
+// path: llvmpipe runs both sides of every branch and one pass of every loop under an execution mask even when the
+// condition is uniform, and a loop around the draw stops LLVM from interleaving independent draws; a run-time kind
+// made the gauss path 2.5 to 3 times slower there. The pipelines set it to 1 (gauss), 2 (truncated) or 3 (clt and
+// uniform): host/internal.h frt_noise_slot.
+layout(constant_id = 0) const uint FRT_NOISE_KIND = 1u;
+float frt_noise_draw(uint kind, uint n, float k, float scale, uint level, uint i, uint j, uvec2 key)
+{
+    uvec4 w = frt_philox4x32_10(uvec4(i, j, level, 0u), key);
+    if (kind < FRT_NOISE_TRUNCATED) // gauss
+        return frt_gauss(w.x, w.y);
+    if (kind == FRT_NOISE_TRUNCATED) {
+        // rejection with the attempt t in the counter's 4th word; all 64 rejected (p < 1e-31 for K >= 1): 0
+        precise float g = frt_gauss(w.x, w.y);
+        for (uint t = 1u; abs(g) > k && t < 64u; ++t) {
+            w = frt_philox4x32_10(uvec4(i, j, level, t), key);
+            g = frt_gauss(w.x, w.y);
+        }
+        if (abs(g) > k)
+            g = 0.0;
+        precise float r = g * scale;
+        return r;
+    }
+    // clt, uniform: u_m = float(word m mod 4 of the call with 4th counter word m / 4) * 2^-32, summed left to right
+    precise float s = 0.0; // 0 + u_0 = u_0 exactly
+    for (uint m = 0u; m < n; ++m) {
+        if (m > 0u && (m & 3u) == 0u)
+            w = frt_philox4x32_10(uvec4(i, j, level, m >> 2), key);
+        s = s + float(w[m & 3u]) * uintBitsToFloat(0x2F800000u);
+    }
+    precise float r = (s - float(n) * 0.5) * scale; // N / 2 is exact
+    return r;
 }
 
 #endif

@@ -217,6 +217,88 @@ check 'grep -q "generating 65 x 65 on the CPU" "$T/err"' "FRT_PROGRESS=always sh
 FRT_PROGRESS=always "$BIN" generate --levels 6 --backend cpu -q -o "$T/p.npy" 2> "$T/err" && ok || bad "quiet run"
 check '[ ! -s "$T/err" ]' "--quiet silences progress too"
 
+# ---- regions: a window of the grid, equal bit for bit to the same part of the whole grid ----
+FFC_WINDOWS="10,20,40,30 0,0,17,5 240,250,17,7 0,256,257,1 0,0,257,257 256,0,1,257"    # corners, edges, whole
+TORUS_WINDOWS="0,0,64,64 50,60,30,20 63,63,2,2 10,5,130,3 0,0,1,1"                      # wrapping, wider than the torus
+for be in cpu auto; do
+    "$BIN" generate --levels 8 --seed 4 --backend $be -q -o "$T/whole_$be.npy" && ok || bad "whole grid ($be)"
+    "$BIN" generate --levels 6 --edge periodic --seed 4 --backend $be -q -o "$T/torus_$be.npy" && ok || bad "whole torus ($be)"
+    for w in $FFC_WINDOWS; do
+        "$BIN" generate --levels 8 --seed 4 --backend $be -q --region "$w" -o "$T/reg_${be}_$w.npy" 2> "$T/err" && ok || bad "region $w ($be): $(cat "$T/err")"
+    done
+    for w in $TORUS_WINDOWS; do
+        "$BIN" generate --levels 6 --edge periodic --seed 4 --backend $be -q --region "$w" -o "$T/preg_${be}_$w.npy" 2> "$T/err" && ok || bad "periodic region $w ($be): $(cat "$T/err")"
+    done
+done
+if have_numpy; then
+    "$PY" - "$T" "$FFC_WINDOWS" "$TORUS_WINDOWS" <<'PYEOF' && ok || bad "numpy: every region equals its crop of the whole grid"
+import sys, numpy as np
+t, ffc, torus = sys.argv[1], sys.argv[2].split(), sys.argv[3].split()
+for be in ("cpu", "auto"):
+    whole = np.load(f"{t}/whole_{be}.npy")
+    for w in ffc:
+        x, y, wd, ht = map(int, w.split(","))
+        r = np.load(f"{t}/reg_{be}_{w}.npy")
+        assert r.shape == (ht, wd), (be, w, r.shape)
+        assert np.array_equal(r, whole[y:y + ht, x:x + wd]), (be, w)
+    tor = np.load(f"{t}/torus_{be}.npy")
+    m = tor.shape[0]
+    for w in torus:
+        x, y, wd, ht = map(int, w.split(","))
+        r = np.load(f"{t}/preg_{be}_{w}.npy")
+        assert r.shape == (ht, wd), (be, w, r.shape)
+        assert np.array_equal(r, tor[np.ix_((y + np.arange(ht)) % m, (x + np.arange(wd)) % m)]), (be, w)
+PYEOF
+else
+    echo "numpy not installed: skipping the region crop checks"
+fi
+# A window of a 2^24+1 grid: every output, the preview and the summary are the window's; the metadata records it.
+for be in cpu auto; do
+    "$BIN" generate --levels 24 --region 1000000,2000000,64,48 --seed 7 --backend $be -o "$T/r24_$be.f32" \
+        -o "$T/r24_$be.png" --preview "$T/r24_prev_$be.png" 2> "$T/err" && ok || bad "levels 24 region ($be): $(cat "$T/err")"
+    check 'grep -q "64 x 48 at 1000000,2000000 of the 16777217 x 16777217 grid (levels 24" "$T/err"' "region summary line ($be): $(cat "$T/err")"
+    check '[ "$(stat -c %s "$T/r24_$be.f32" 2>/dev/null)" = $((64 * 48 * 4)) ]' "levels 24 region ($be): 64 x 48 floats"
+    check '[ "$(od -An -tu1 -j16 -N8 "$T/r24_$be.png" 2>/dev/null | tr -s " ")" = " 0 0 0 64 0 0 0 48" ] && [ "$(od -An -tu1 -j16 -N8 "$T/r24_prev_$be.png" 2>/dev/null | tr -s " ")" = " 0 0 0 64 0 0 0 48" ]' "levels 24 region ($be): PNG and preview are 64 x 48"
+    check 'tr -d " \n" < "$T/r24_$be.f32.json" | grep -q "\"region\":{\"x\":1000000,\"y\":2000000,\"width\":64,\"height\":48},\"grid_side\":16777217"' "sidecar records the region: $(cat "$T/r24_$be.f32.json" 2>/dev/null)"
+done
+"$BIN" render "$T/r24_cpu.png" -q -o "$T/r24_render.png" && ok || bad "render reads a region's PNG"
+if have_numpy; then
+    "$PY" - "$T" <<'PYEOF' && ok || bad "numpy: levels 24 region finite, not flat, same on both backends"
+import sys, numpy as np
+t = sys.argv[1]
+a = np.fromfile(t + "/r24_cpu.f32", dtype="<f4").reshape(48, 64)
+b = np.fromfile(t + "/r24_auto.f32", dtype="<f4").reshape(48, 64)
+assert np.isfinite(a).all() and a.std() > 0, a
+assert np.array_equal(a, b)                       # spec v2: every backend gives the same bits
+PYEOF
+fi
+"$BIN" generate --levels 30 --edge periodic --region 1073741800,5,64,64 --backend cpu -q -o "$T/r30.npy" && ok || bad "levels 30 periodic region wrapping the torus"
+FRT_PROGRESS=always "$BIN" generate --levels 8 --region 10,20,40,30 --backend cpu -o "$T/p.npy" 2> "$T/err" && ok || bad "region progress run"
+check 'grep -q "generating 40 x 30 at 10,20 of the 257 x 257 grid on the CPU" "$T/err"' "region progress line: $(cat "$T/err")"
+# Bad regions: one line naming the problem (and the grid's side), exit 2, nothing written.
+expect_fail 2 "X0,Y0,W,H" generate --region 1,2,3 -o "$T/out.png"
+expect_fail 2 "X0,Y0,W,H" generate --region 1,2,3,4,5 -o "$T/out.png"
+expect_fail 2 "X0,Y0,W,H" generate --region a,b,c,d -o "$T/out.png"
+expect_fail 2 "X0,Y0,W,H" generate --region -1,0,4,4 -o "$T/out.png"
+expect_fail 2 "X0,Y0,W,H" generate --region 1,,3,4 -o "$T/out.png"
+expect_fail 2 "X0,Y0,W,H" generate --region "" -o "$T/out.png"
+expect_fail 2 "X0,Y0,W,H" generate --region 0,0,4294967296,1 -o "$T/out.png"
+expect_fail 2 "at least 1" generate --region 0,0,0,4 -o "$T/out.png"
+expect_fail 2 "at least 1" generate --region 0,0,4,0 -o "$T/out.f32"
+expect_fail 2 "at least 1" generate --region 0,0,0,0 -o "$T/out.png"
+expect_fail 2 "65 x 65 grid" generate --levels 6 --region 60,0,10,10 -o "$T/out.png"
+expect_fail 2 "65 x 65 grid" generate --levels 6 --region 0,0,66,1 -o "$T/out.f32"
+expect_fail 2 "65 x 65 grid" generate --levels 6 --region 0,65,1,1 -o "$T/out.png"
+expect_fail 2 "513 x 513 grid" generate --region 500,0,14,1 -o "$T/out.png"
+expect_fail 2 "1073741825 x 1073741825 grid" generate --levels 30 --region 4294967295,0,1,1 -o "$T/out.png"
+expect_fail 2 "64 x 64 periodic grid" generate --levels 6 --edge periodic --region 64,0,4,4 -o "$T/out.png"
+expect_fail 2 "64 x 64 periodic grid" generate --levels 6 --edge periodic --region 0,64,4,4 -o "$T/out.png"
+expect_fail 2 "2^32" generate --levels 30 --region 0,0,100000,100000 -o "$T/out.png"
+expect_fail 2 "needs --region" generate --levels 20 -o "$T/out.png"
+expect_fail 2 "levels" generate --levels 31 --region 0,0,1,1 -o "$T/out.png"
+expect_fail 2 "--frames" generate --region 0,0,4,4 --frames "$T/out.frames" -o "$T/out.png"
+expect_fail 2 "--gif" generate --region 0,0,4,4 --gif "$T/out.gif"
+
 # ---- the manual names every option of every command ----
 MAN=$(dirname "$0")/../docs/fracterra.1
 for cmd in generate render devices bench; do
@@ -231,6 +313,16 @@ if [ -n "$PY" ]; then
     "$PY" -c 'import json,sys; d=json.load(open(sys.argv[1])); r=d["results"]; assert len(r)==4 and all(x["points_per_s_total"]>0 for x in r), r' "$T/bench.json" && ok || bad "bench JSON: $(cat "$T/bench.json")"
 fi
 expect_fail 2 runs bench --runs 0
+"$BIN" bench --region --window 16 --levels 8,24 --runs 1 --json > "$T/bench_region.json" 2> "$T/err" && ok || bad "bench --region: $(cat "$T/err")"
+if [ -n "$PY" ]; then
+    "$PY" -c 'import json,sys; d=json.load(open(sys.argv[1])); r=d["results"]; assert d["mode"]=="region" and len(r)==4 and all(x["width"]==16 and x["height"]==16 and x["side"] in (257, 16777217) and x["points_per_s_total"]>0 for x in r), r' "$T/bench_region.json" && ok || bad "bench --region JSON: $(cat "$T/bench_region.json")"
+fi
+"$BIN" bench --region --window 16x8 --levels 12 --runs 1 --backend cpu > "$T/bench_region.txt" 2> "$T/err" && ok || bad "bench --region table: $(cat "$T/err")"
+check 'grep -q "16 x 8 window centred" "$T/bench_region.txt" && grep -Eq "^cpu .* 12 +4097 " "$T/bench_region.txt"' "bench --region table: $(cat "$T/bench_region.txt")"
+expect_fail 2 "window" bench --window 16
+expect_fail 2 "does not fit" bench --region --window 100 --levels 5
+expect_fail 2 "levels" bench --levels 20
+expect_fail 2 "levels" bench --region --levels 24,20
 
 echo "test_cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]

@@ -112,7 +112,9 @@ static void test_extensions(void)
               frt_file_format_from_path("a/b.Pgm") == FRT_FILE_PGM &&
               frt_file_format_from_path("m.obj") == FRT_FILE_OBJ && frt_file_format_from_path("m.PLY") == FRT_FILE_PLY,
           "extensions");
-    CHECK(frt_file_format_from_path("a.tif") == FRT_FILE_DEFAULT &&
+    CHECK(frt_file_format_from_path("a.tif") == FRT_FILE_TIFF && frt_file_format_from_path("a.TIFF") == FRT_FILE_TIFF,
+          "GeoTIFF extensions");
+    CHECK(frt_file_format_from_path("a.xyz") == FRT_FILE_DEFAULT &&
               frt_file_format_from_path("dir.png/file") == FRT_FILE_DEFAULT &&
               frt_file_format_from_path("noext") == FRT_FILE_DEFAULT && frt_file_format_from_path(NULL) == 0,
           "unknown extensions");
@@ -293,6 +295,93 @@ static void test_sidecar(void)
     CHECK(frt_read_heightfield_info(path_in("plain.f32"), &info, err, sizeof err) == FRT_SUCCESS && !info.has_terrain &&
               info.spacing_x == 2.5 && info.spacing_y == 0.8 && info.z_scale == -2 && info.backend[0] == 0,
           "spacing and z_scale read back: %s", err);
+}
+
+/* A region's metadata (docs/ALGORITHM.md §3.2): where the window lies and the side of its virtual grid, written by
+ * every format that records parameters and read back into info.terrain.region. Levels above FRT_MAX_LEVELS count
+ * only with a region; a record that contradicts itself or the file is left out, not trusted; files without a
+ * region (all before it existed) read as whole grids. */
+static void test_region_metadata(void)
+{
+    static const struct {
+        const char *name;
+        frt_edge edge;
+        uint32_t levels, x, y;
+        const char *grid_side;
+    } cases[] = {
+        {"reg.f32", FRT_EDGE_FFC, 24, 1000000, 16777217 - 65, "16777217"},
+        {"reg.png", FRT_EDGE_PERIODIC, 30, 1073741800, 5, "1073741824"}, /* wraps around the torus */
+        {"reg.pgm", FRT_EDGE_FFC, 30, 0, 0, "1073741825"},
+        {"reg.obj", FRT_EDGE_PERIODIC, 7, 100, 120, "128"},
+        {"reg.ply", FRT_EDGE_FFC, 20, 7, 1048577 - 65, "1048577"},
+    };
+    char err[512];
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        frt_terrain_desc d = {0};
+        d.levels = cases[c].levels, d.hurst = 0.5, d.seed = 42, d.edge = cases[c].edge;
+        d.region = (frt_region){cases[c].x, cases[c].y, 65, 65};
+        frt_write_desc wd = {0};
+        wd.terrain = &d;
+        const char *p = path_in(cases[c].name);
+        CHECK(frt_write_heightfield(p, field, 65, 65, &wd, err, sizeof err) == FRT_SUCCESS, "%s: %s", cases[c].name,
+              err);
+        frt_field_info info;
+        CHECK(frt_read_heightfield_info(p, &info, err, sizeof err) == FRT_SUCCESS, "%s: %s", cases[c].name, err);
+        const frt_region g = info.terrain.region;
+        CHECK(info.has_terrain && info.terrain.levels == cases[c].levels && info.terrain.edge == cases[c].edge &&
+                  info.terrain.seed == 42 && g.x == cases[c].x && g.y == cases[c].y && g.width == 65 && g.height == 65,
+              "%s: has_terrain %d, levels %u, region %u,%u %ux%u", cases[c].name, info.has_terrain, info.terrain.levels,
+              g.x, g.y, g.width, g.height);
+        /* The text records the virtual grid's side for a reader without the library. */
+        char want[64];
+        snprintf(want, sizeof want, "\"grid_side\": %s", cases[c].grid_side);
+        size_t n;
+        uint8_t *b = read_all(c == 0 ? path_in("reg.f32.json") : p, &n);
+        bool found = false;
+        for (size_t i = 0; b && i + strlen(want) <= n && !found; ++i)
+            found = memcmp(b + i, want, strlen(want)) == 0;
+        if (c != 1) /* the PNG's params chunk is zlib-compressed */
+            CHECK(found, "%s records %s", cases[c].name, want);
+        free(b);
+    }
+    frt_field_info info;
+    CHECK(frt_read_heightfield_info(path_in("rt.f32"), &info, err, sizeof err) == FRT_SUCCESS && info.has_terrain &&
+              !frt_region_is_set(&info.terrain.region),
+          "a file without a region reads as the whole grid: %s", err);
+
+    /* Hand-written sidecars of a 2 x 2 field: only consistent records count. */
+    static const struct {
+        const char *params;
+        bool counts;
+    } sidecars[] = {
+        {"\"levels\": 24, \"region\": {\"x\": 5, \"y\": 6, \"width\": 2, \"height\": 2}, \"grid_side\": 16777217",
+         true},
+        {"\"levels\": 24, \"region\": {\"x\": 5, \"y\": 6, \"width\": 2, \"height\": 2}", true},
+        {"\"levels\": 24", false}, /* more than a whole grid may have */
+        {"\"levels\": 24, \"region\": {\"x\": 5, \"y\": 6, \"width\": 3, \"height\": 2}", false}, /* not 2 x 2 */
+        {"\"levels\": 24, \"region\": {\"x\": 5, \"y\": 6, \"width\": 2, \"height\": 2}, \"grid_side\": 4097", false},
+        {"\"levels\": 24, \"region\": {\"x\": 5, \"y\": 6, \"width\": 2, \"height\": 2}, \"grid_side\": \"big\"",
+         false},
+        {"\"levels\": 2, \"region\": {\"x\": 4, \"y\": 0, \"width\": 2, \"height\": 2}", false}, /* outside 5 x 5 */
+        {"\"levels\": 24, \"region\": {\"x\": 5, \"y\": 6, \"width\": 2}", false},
+        {"\"levels\": 24, \"region\": {\"x\": -5, \"y\": 6, \"width\": 2, \"height\": 2}", false},
+        {"\"levels\": 24, \"region\": [5, 6, 2, 2]", false},
+        {"\"levels\": 31, \"region\": {\"x\": 5, \"y\": 6, \"width\": 2, \"height\": 2}", false},
+        {"\"levels\": 2, \"region\": {\"x\": 3, \"y\": 3, \"width\": 2, \"height\": 2}, \"edge\": \"periodic\"", true},
+    };
+    const float h[4] = {1, 2, 3, 4};
+    write_all(path_in("hand.f32"), h, sizeof h);
+    for (size_t i = 0; i < sizeof sidecars / sizeof sidecars[0]; ++i) {
+        char json[512];
+        int len =
+            snprintf(json, sizeof json, "{\"width\": 2, \"height\": 2, \"hurst\": 0.5, \"sigma\": 1, \"seed\": 7, %s}",
+                     sidecars[i].params);
+        write_all(path_in("hand.f32.json"), json, (size_t)len);
+        frt_result r = frt_read_heightfield_info(path_in("hand.f32"), &info, err, sizeof err);
+        CHECK(r == FRT_SUCCESS && info.has_terrain == sidecars[i].counts &&
+                  (!info.has_terrain || (info.terrain.region.width == 2 && info.terrain.seed == 7)),
+              "sidecar %zu (%s): %d, has_terrain %d: %s", i, json, (int)r, info.has_terrain, err);
+    }
 }
 
 /* PGM bytes as Netpbm defines them: P5, comments before the size, maxval, big-endian samples. */
@@ -773,10 +862,10 @@ static void test_read_failures(void)
     p = path_in("adir.png");
     r = frt_read_heightfield_info(p, &info, err, sizeof err);
     CHECK(r == FRT_ERROR_IO && message_ok(err, p) && strstr(err, "directory"), "a directory: %s", err);
-    p = path_in("x.tif");
+    p = path_in("x.xyz");
     write_all(p, "x", 1);
     r = frt_read_heightfield_info(p, &info, err, sizeof err);
-    CHECK(r == FRT_ERROR_INVALID_ARGUMENT && message_ok(err, p) && strstr(err, ".png, .pgm, .f32, .npy, .obj or .ply"),
+    CHECK(r == FRT_ERROR_INVALID_ARGUMENT && message_ok(err, p) && strstr(err, ".png, .pgm, .f32, .npy, .obj, .ply or .tif"),
           "unknown extension: %s", err);
     char under_file[300];
     write_all(path_in("plain.txt"), "x", 1);
@@ -890,8 +979,8 @@ static void test_write_failures(void)
     CHECK(r == FRT_ERROR_INVALID_ARGUMENT && strstr(err, "terrain"), "bad terrain: %s", err);
     r = frt_write_heightfield(path_in("b.png"), h, 0, 2, NULL, err, sizeof err);
     CHECK(r == FRT_ERROR_INVALID_ARGUMENT, "width 0: %s", err);
-    r = frt_write_heightfield(path_in("b.tif"), h, 2, 2, NULL, err, sizeof err);
-    CHECK(r == FRT_ERROR_INVALID_ARGUMENT && strstr(err, ".png, .pgm, .f32, .npy, .obj or .ply"),
+    r = frt_write_heightfield(path_in("b.xyz"), h, 2, 2, NULL, err, sizeof err);
+    CHECK(r == FRT_ERROR_INVALID_ARGUMENT && strstr(err, ".png, .pgm, .f32, .npy, .obj, .ply or .tif"),
           "unknown extension: %s", err);
     r = frt_write_picture(path_in("pic.png"), (const uint8_t *)"abcd", 2, 2, 2, err, sizeof err);
     CHECK(r == FRT_ERROR_INVALID_ARGUMENT, "picture with 2 channels: %s", err);
@@ -1073,6 +1162,7 @@ int main(void)
     test_png_by_libpng(8);
     test_npy_layout();
     test_sidecar();
+    test_region_metadata();
     test_pgm_layout();
     test_meshes();
     test_foreign_png();

@@ -277,6 +277,35 @@ static void test_regions(frt_context *ctx)
     }
 }
 
+/* §3.4 on the device: densified grids and regions equal the CPU's bit for bit; levels k+1..n are dispatched. */
+static void test_densify(frt_context *ctx)
+{
+    for (int periodic = 0; periodic <= 1; ++periodic)
+        for (uint32_t k = 1; k <= 9; k += 4) {
+            const uint32_t cs = (1u << k) + (periodic ? 0u : 1u);
+            float *coarse = check_alloc((size_t)cs * cs * sizeof *coarse);
+            for (uint32_t i = 0; i < cs * cs; ++i)
+                coarse[i] = (i % 5 == 2) ? NAN : (float)((i * 2654435761u) % 977) * 0.5f;
+            for (int region = 0; region <= 1; ++region) {
+                frt_terrain_desc d = {0};
+                d.levels = 10, d.hurst = 0.45, d.sigma = 20.0, d.seed = 8 + k;
+                d.edge = periodic ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
+                d.coarse = coarse, d.coarse_levels = k;
+                if (region)
+                    d.region = (frt_region){periodic ? 1000 : 3, 500, 200, 130};
+                float *gpu, *cpu;
+                frt_run_info info = {0};
+                bool ok = region_both(ctx, d, &gpu, &cpu, &info);
+                size_t count = frt_heightfield_size(&d);
+                CHECK(ok && memcmp(gpu, cpu, count * sizeof(float)) == 0 && info.dispatches == 10 - k,
+                      "densify %s k=%u %s: vulkan equals cpu (%u dispatches)", periodic ? "periodic" : "ffc", k,
+                      region ? "region" : "whole grid", info.dispatches);
+                free(gpu), free(cpu);
+            }
+            free(coarse);
+        }
+}
+
 int main(void)
 {
     frt_context *ctx = check_context();
@@ -294,6 +323,7 @@ int main(void)
     test_exact(ctx);
     test_periodic(ctx);
     test_regions(ctx);
+    test_densify(ctx);
     test_large(ctx);
 
     check_context_done(ctx);

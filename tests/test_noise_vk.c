@@ -1,5 +1,7 @@
 /* test_noise_vk.c — host/noise_vk.c: shaders/philox.glsl on the device equals host/philox.c bit for bit, words and
- * Gaussians (spec v2), and the device's Gaussian passes a goodness-of-fit test. */
+ * Gaussians (spec v2), and the device's Gaussian passes a goodness-of-fit test; every distribution of §2.8 gives the
+ * same bits on the device and the CPU, as single draws and through the generator (whole grids and regions, FFC and
+ * periodic). */
 #include "stats.h"
 
 /* Simple reproducible 64-bit generator for test inputs (splitmix64). */
@@ -9,6 +11,117 @@ static uint64_t splitmix(uint64_t *s)
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
+}
+
+static const struct {
+    frt_noise_kind kind;
+    double param;
+    const char *name;
+} DISTRIBUTIONS[] = {{FRT_NOISE_GAUSS, 0, "gauss"},
+                     {FRT_NOISE_TRUNCATED, 1, "truncated:1"},
+                     {FRT_NOISE_TRUNCATED, 3, "truncated:3"},
+                     {FRT_NOISE_TRUNCATED, 6, "truncated:6"},
+                     {FRT_NOISE_CLT, 1, "clt:1"},
+                     {FRT_NOISE_CLT, 4, "clt:4"},
+                     {FRT_NOISE_CLT, 7, "clt:7"},
+                     {FRT_NOISE_CLT, 16, "clt:16"},
+                     {FRT_NOISE_UNIFORM, 0, "uniform"}};
+#define DISTRIBUTION_COUNT (sizeof DISTRIBUTIONS / sizeof DISTRIBUTIONS[0])
+
+/* frt_noise_draw on the device (noise.comp, the kind at run time) against the CPU: 2^18 random (level, i, j) per
+ * distribution and seed, plus the all-rejected fallback forced with a K below the range. */
+static void test_draws(frt_context *ctx)
+{
+    const size_t n = 1u << 18;
+    uint32_t *pts = check_alloc(n * 12);
+    float *dev = check_alloc(n * sizeof *dev);
+    uint64_t state = 77;
+    for (size_t i = 0; i < n; ++i) {
+        uint64_t a = splitmix(&state), b = splitmix(&state);
+        pts[3 * i] = (uint32_t)a, pts[3 * i + 1] = (uint32_t)(a >> 32), pts[3 * i + 2] = (uint32_t)(b % 31);
+    }
+    for (size_t c = 0; c < DISTRIBUTION_COUNT; ++c) {
+        const uint64_t seeds[2] = {1, 0xfedcba9876543210ull};
+        for (int s = 0; s < 2; ++s) {
+            frt_terrain_desc d = {0};
+            d.noise = DISTRIBUTIONS[c].kind, d.noise_param = DISTRIBUTIONS[c].param, d.seed = seeds[s];
+            d.seed_is_explicit = true;
+            CHECK(frt_terrain_desc_resolved(&d, &d) == FRT_SUCCESS, "%s valid", DISTRIBUTIONS[c].name);
+            frt_noise_params p;
+            frt_noise_params_init(&p, &d);
+            CHECK(frt_noise_draw_vulkan(ctx, &p, pts, n, dev) == FRT_SUCCESS, "%s", frt_context_error(ctx));
+            size_t differ = 0;
+            for (size_t i = 0; i < n; ++i) {
+                float cpu = frt_noise_draw(&p, pts[3 * i + 2], pts[3 * i], pts[3 * i + 1]);
+                differ += memcmp(&cpu, &dev[i], 4) != 0;
+            }
+            CHECK(differ == 0, "%s seed %llx: %zu of %zu device draws differ from the CPU's", DISTRIBUTIONS[c].name,
+                  (unsigned long long)seeds[s], differ, n);
+            if (s == 0)
+                printf("device vs CPU %-12s %zu draws, %zu differ\n", DISTRIBUTIONS[c].name, n, differ);
+        }
+    }
+    frt_terrain_desc d = {0};
+    d.noise = FRT_NOISE_TRUNCATED;
+    frt_terrain_desc_resolved(&d, &d);
+    frt_noise_params p;
+    frt_noise_params_init(&p, &d);
+    p.k = 0x1p-100f; /* every attempt rejected */
+    CHECK(frt_noise_draw_vulkan(ctx, &p, pts, 1024, dev) == FRT_SUCCESS, "%s", frt_context_error(ctx));
+    size_t nonzero = 0;
+    for (size_t i = 0; i < 1024; ++i)
+        nonzero += frt_float_bits(dev[i]) != 0 ||
+                   frt_float_bits(frt_noise_draw(&p, pts[3 * i + 2], pts[3 * i], pts[3 * i + 1])) != 0;
+    CHECK(nonzero == 0, "64 rejections give +0 on both: %zu of 1024 are not", nonzero);
+    CHECK(frt_noise_draw_vulkan(ctx, &p, NULL, 1, dev) == FRT_ERROR_INVALID_ARGUMENT, "no points");
+    free(pts), free(dev);
+}
+
+/* One field on both backends: FRT_SUCCESS on each and the same bytes. Returns the device's field. */
+static float *both(frt_context *ctx, const frt_terrain_desc *d, const char *what)
+{
+    const size_t count = frt_heightfield_size(d);
+    float *dev = check_alloc(count * sizeof *dev), *cpu = check_alloc(count * sizeof *cpu);
+    CHECK(frt_generate(ctx, d, dev, count, NULL) == FRT_SUCCESS, "%s: %s", what, frt_context_error(ctx));
+    CHECK(frt_generate_cpu(d, cpu, count, NULL) == FRT_SUCCESS, "%s: cpu", what);
+    size_t differ = 0;
+    for (size_t i = 0; i < count; ++i)
+        differ += memcmp(&dev[i], &cpu[i], 4) != 0;
+    CHECK(differ == 0, "%s: %zu of %zu points differ between device and CPU", what, differ, count);
+    free(cpu);
+    return dev;
+}
+
+/* The generator's specialised pipelines (generate.comp both block variants, region.comp) against the CPU, per
+ * distribution: whole grids FFC (n = 10: levels with 1x1 and 4x4 blocks) and periodic, and regions of both that must
+ * also equal the crop of the device's whole grid. */
+static void test_fields(frt_context *ctx)
+{
+    for (size_t c = 0; c < DISTRIBUTION_COUNT; ++c) {
+        for (int periodic = 0; periodic <= 1; ++periodic) {
+            char what[96];
+            frt_terrain_desc d = {0};
+            d.levels = 10, d.hurst = 0.75, d.sigma = -1.5, d.seed = 0x5eed0000 + c, d.seed_is_explicit = true;
+            d.edge = periodic ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
+            d.noise = DISTRIBUTIONS[c].kind, d.noise_param = DISTRIBUTIONS[c].param;
+            snprintf(what, sizeof what, "%s %s n = 10", DISTRIBUTIONS[c].name, periodic ? "periodic" : "ffc");
+            float *whole = both(ctx, &d, what);
+            const uint32_t M = frt_terrain_side(&d);
+            /* FFC: a window touching the right border; periodic: one that wraps around the torus */
+            frt_terrain_desc r = d;
+            r.region = periodic ? (frt_region){1000, 990, 77, 61} : (frt_region){950, 300, 75, 64};
+            snprintf(what, sizeof what, "%s %s region", DISTRIBUTIONS[c].name, periodic ? "periodic" : "ffc");
+            float *reg = both(ctx, &r, what);
+            size_t wrong = 0;
+            for (uint32_t y = 0; y < r.region.height; ++y)
+                for (uint32_t x = 0; x < r.region.width; ++x)
+                    wrong += memcmp(&reg[(size_t)y * r.region.width + x],
+                                    &whole[(size_t)((r.region.y + y) % M) * M + (r.region.x + x) % M], 4) != 0;
+            CHECK(wrong == 0, "%s: %zu points differ from the whole grid's crop", what, wrong);
+            free(whole), free(reg);
+        }
+        printf("device vs CPU %-12s whole grids and regions, FFC and periodic: compared\n", DISTRIBUTIONS[c].name);
+    }
 }
 
 int main(void)
@@ -85,6 +198,8 @@ int main(void)
     free(c), free(k), free(g);
 
     CHECK(frt_noise_vulkan(ctx, NULL, NULL, 0, NULL, NULL) == FRT_ERROR_INVALID_ARGUMENT, "empty input");
+    test_draws(ctx);
+    test_fields(ctx);
     check_context_done(ctx);
     return check_summary("test_noise_vk");
 }

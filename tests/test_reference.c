@@ -392,12 +392,206 @@ static void test_regions_invalid(void)
     CHECK(frt_generate_cpu(&d, &one, 1, NULL) == FRT_ERROR_BUFFER_TOO_SMALL, "region larger than the buffer");
 }
 
+/* §3.4 densify: the coarse grid of a generated field, with holes, gives back exactly the field, whole or a region. */
+static void test_densify(void)
+{
+    for (int periodic = 0; periodic <= 1; ++periodic) {
+        const frt_edge edge = periodic ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
+        const uint32_t n = 9, k = 5, M = periodic ? 1u << n : (1u << n) + 1, cs = periodic ? 1u << k : (1u << k) + 1;
+        const uint32_t step = 1u << (n - k);
+        float *full = gen_edge(n, 0.65, 3.0, 4242, edge);
+        float *coarse = check_alloc((size_t)cs * cs * sizeof *coarse);
+        for (uint32_t y = 0; y < cs; ++y)
+            for (uint32_t x = 0; x < cs; ++x)
+                coarse[y * cs + x] = full[(size_t)(y * step) * M + x * step];
+        /* holes: a corner, a border cell, an interior block (created at several different levels) */
+        coarse[0] = NAN;
+        coarse[cs / 2] = NAN;
+        for (uint32_t y = 9; y < 14; ++y)
+            for (uint32_t x = 3; x < 11; ++x)
+                coarse[y * cs + x] = NAN;
+        frt_terrain_desc d = {0};
+        d.levels = n, d.hurst = 0.65, d.sigma = 3.0, d.seed = 4242, d.edge = edge;
+        d.coarse = coarse, d.coarse_levels = k;
+        float *out = check_alloc((size_t)M * M * sizeof *out);
+        CHECK(frt_generate_cpu(&d, out, (size_t)M * M, NULL) == FRT_SUCCESS, "densify");
+        CHECK(memcmp(out, full, (size_t)M * M * sizeof *out) == 0,
+              "%s: densifying every %u-th point (with holes) of a field gives back that field bit for bit",
+              periodic ? "periodic" : "ffc", step);
+        const uint32_t rx = periodic ? M - 40 : 100, ry = 37, rw = 90, rh = 61;
+        d.region = (frt_region){rx, ry, rw, rh};
+        float *reg = check_alloc((size_t)rw * rh * sizeof *reg);
+        CHECK(frt_generate_cpu(&d, reg, (size_t)rw * rh, NULL) == FRT_SUCCESS && region_matches(full, M, reg, rx, ry, rw, rh),
+              "%s: a densified region is the crop of the densified grid", periodic ? "periodic" : "ffc");
+        free(reg);
+
+        /* Foreign data: kept bit for bit (including values no generator would make), holes finite. */
+        for (uint32_t i = 0; i < cs * cs; ++i)
+            coarse[i] = (i % 7 == 3) ? NAN : (float)((i * 2654435761u) % 1000) * 0.37f - 100.0f;
+        d.region = (frt_region){0};
+        d.levels = 8, d.coarse_levels = k;
+        const uint32_t M8 = periodic ? 256 : 257, s8 = 1u << (8 - k);
+        CHECK(frt_generate_cpu(&d, out, (size_t)M8 * M8, NULL) == FRT_SUCCESS, "densify foreign data");
+        size_t kept = 0, filled = 0, known = 0, holes = 0;
+        for (uint32_t y = 0; y < cs; ++y)
+            for (uint32_t x = 0; x < cs; ++x) {
+                float c = coarse[y * cs + x], o = out[(size_t)(y * s8) * M8 + x * s8];
+                if (isnan(c))
+                    ++holes, filled += isfinite(o);
+                else
+                    ++known, kept += memcmp(&c, &o, 4) == 0;
+            }
+        bool finite = true;
+        for (size_t i = 0; i < (size_t)M8 * M8; ++i)
+            finite = finite && isfinite(out[i]);
+        CHECK(kept == known && filled == holes && finite, "%s: %zu of %zu known samples kept, %zu of %zu holes filled",
+              periodic ? "periodic" : "ffc", kept, known, filled, holes);
+        /* coarse_levels == levels: the completed coarse grid itself */
+        d.levels = k;
+        CHECK(frt_generate_cpu(&d, out, (size_t)cs * cs, NULL) == FRT_SUCCESS && out[1] == coarse[1],
+              "densify to the coarse grid's own levels");
+        free(full), free(coarse), free(out);
+    }
+    char why[200];
+    float c3[9] = {0, 1, 2, 3, INFINITY, 5, 6, 7, 8};
+    frt_terrain_desc d = {0};
+    d.levels = 4, d.coarse = c3, d.coarse_levels = 1;
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT && strstr(why, "infinite"),
+          "infinite coarse height: %s", why);
+    c3[4] = NAN;
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_SUCCESS, "NaN is no data: %s", why);
+    d.coarse_levels = 5;
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT, "coarse deeper than levels: %s",
+          why);
+    d.coarse_levels = 0;
+    CHECK(frt_terrain_desc_check(&d, why, sizeof why) == FRT_ERROR_INVALID_ARGUMENT, "coarse without levels: %s", why);
+}
+
+/* §2.8: the noise distribution's defaults and validation, with a reason for each rejection. */
+static void test_noise_desc(void)
+{
+    frt_terrain_desc d = {0}, r;
+    char why[200];
+    CHECK(frt_terrain_desc_resolved(&d, &r) == FRT_SUCCESS && r.noise == FRT_NOISE_GAUSS && r.noise_param == 0,
+          "default noise is gauss without a parameter");
+    d.noise = FRT_NOISE_TRUNCATED;
+    CHECK(frt_terrain_desc_resolved(&d, &r) == FRT_SUCCESS && r.noise_param == 3, "truncated: K 0 -> 3");
+    d.noise = FRT_NOISE_CLT;
+    CHECK(frt_terrain_desc_resolved(&d, &r) == FRT_SUCCESS && r.noise_param == 4, "clt: N 0 -> 4");
+    d.noise = FRT_NOISE_UNIFORM;
+    CHECK(frt_terrain_desc_resolved(&d, &r) == FRT_SUCCESS && r.noise_param == 0, "uniform takes no parameter");
+    static const struct {
+        frt_noise_kind kind;
+        double param;
+        bool ok;
+        const char *reason; /* in the message when rejected */
+    } cases[] = {
+        {FRT_NOISE_TRUNCATED, 1, true, ""},
+        {FRT_NOISE_TRUNCATED, 6, true, ""},
+        {FRT_NOISE_TRUNCATED, 2.5, true, ""},
+        {FRT_NOISE_TRUNCATED, 0.5, false, "[1, 6]"},
+        {FRT_NOISE_TRUNCATED, 7, false, "[1, 6]"},
+        {FRT_NOISE_TRUNCATED, -3, false, "[1, 6]"},
+        {FRT_NOISE_TRUNCATED, NAN, false, "[1, 6]"},
+        {FRT_NOISE_TRUNCATED, INFINITY, false, "[1, 6]"},
+        {FRT_NOISE_CLT, 1, true, ""},
+        {FRT_NOISE_CLT, 16, true, ""},
+        {FRT_NOISE_CLT, 2.5, false, "1..16"},
+        {FRT_NOISE_CLT, 17, false, "1..16"},
+        {FRT_NOISE_CLT, -4, false, "1..16"},
+        {FRT_NOISE_CLT, NAN, false, "1..16"},
+        {FRT_NOISE_GAUSS, 2, false, "takes none"},
+        {FRT_NOISE_UNIFORM, 1, false, "takes none"},
+        {(frt_noise_kind)5, 0, false, "unknown noise"},
+        {(frt_noise_kind)-1, 0, false, "unknown noise"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        frt_terrain_desc e = {0};
+        e.noise = cases[k].kind, e.noise_param = cases[k].param;
+        frt_result res = frt_terrain_desc_check(&e, why, sizeof why);
+        if (cases[k].ok)
+            CHECK(res == FRT_SUCCESS && why[0] == '\0', "noise %d param %g is valid: %s", (int)cases[k].kind,
+                  cases[k].param, why);
+        else
+            CHECK(res == FRT_ERROR_INVALID_ARGUMENT && strstr(why, cases[k].reason) && frt_heightfield_size(&e) == 0,
+                  "noise %d param %g: '%s' should say '%s'", (int)cases[k].kind, cases[k].param, why, cases[k].reason);
+    }
+}
+
+/* §2.8 through the CPU generator: every path (whole FFC grid, periodic grid, regions of both) draws the chosen
+ * distribution: single points follow the contract, regions equal the whole grid's crop, the grid at n is every
+ * 2^k-th point of the grid at n + k, and the per-level residuals have variance 1. */
+static void test_noise_fields(void)
+{
+    static const struct {
+        frt_noise_kind kind;
+        double param;
+    } kinds[] = {{FRT_NOISE_TRUNCATED, 1},
+                 {FRT_NOISE_TRUNCATED, 3},
+                 {FRT_NOISE_CLT, 4},
+                 {FRT_NOISE_CLT, 13},
+                 {FRT_NOISE_UNIFORM, 0}};
+    float *gauss = gen(6, 0.7, 1.0, 42);
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
+        for (int periodic = 0; periodic <= 1; ++periodic) {
+            frt_terrain_desc d = {0};
+            d.levels = 6, d.hurst = 0.7, d.sigma = 2.0, d.seed = 42, d.seed_is_explicit = true;
+            d.edge = periodic ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
+            d.noise = kinds[k].kind, d.noise_param = kinds[k].param;
+            CHECK(frt_terrain_desc_resolved(&d, &d) == FRT_SUCCESS, "valid");
+            frt_noise_params np;
+            frt_noise_params_init(&np, &d);
+            const uint32_t M = frt_terrain_side(&d);
+            float *h = check_alloc((size_t)M * M * sizeof *h);
+            CHECK(frt_generate_cpu(&d, h, (size_t)M * M, NULL) == FRT_SUCCESS, "generate");
+            /* the first corner and the centre, written out */
+            const float corner = (float)d.sigma * frt_noise_draw(&np, 0, 0, 0);
+            const uint32_t c = M / 2, last = periodic ? 0 : M - 1;
+            const float mean = ((h[0] + h[last]) + (h[(size_t)last * M] + h[(size_t)last * M + last])) * 0.25f;
+            const float centre = mean + frt_sigma_diamond(&d, 1) * frt_noise_draw(&np, 1, 1, 1);
+            CHECK(h[0] == corner && h[(size_t)c * M + c] == centre,
+                  "noise %d %s: corner and centre follow the contract", (int)d.noise, periodic ? "periodic" : "ffc");
+            size_t same = 0;
+            for (size_t i = 0; i < 65u * 65u && !periodic; ++i)
+                same += h[i] == gauss[i] * 2.0f;
+            CHECK(periodic || same < 65u * 65u / 10, "noise %d: %zu points equal the gauss field's", (int)d.noise,
+                  same);
+            /* a region is the crop of the whole grid, bit for bit (reference.c region_noise) */
+            frt_terrain_desc rd = d;
+            rd.region = (frt_region){periodic ? 50u : 17u, periodic ? 60u : 5u, 23, 31};
+            float *reg = check_alloc(23 * 31 * sizeof *reg);
+            CHECK(frt_generate_cpu(&rd, reg, 23 * 31, NULL) == FRT_SUCCESS, "region");
+            CHECK(region_matches(h, M, reg, rd.region.x, rd.region.y, 23, 31),
+                  "noise %d %s: the region is the whole grid's crop", (int)d.noise, periodic ? "periodic" : "ffc");
+            /* resolution independence at n = 9 */
+            frt_terrain_desc big = d;
+            big.levels = 9;
+            const uint32_t B = frt_terrain_side(&big);
+            float *hb = check_alloc((size_t)B * B * sizeof *hb);
+            CHECK(frt_generate_cpu(&big, hb, (size_t)B * B, NULL) == FRT_SUCCESS, "generate n = 9");
+            size_t wrong = 0;
+            for (uint32_t y = 0; y < M; ++y)
+                for (uint32_t x = 0; x < M; ++x)
+                    wrong += h[(size_t)y * M + x] != hb[(size_t)(8 * y) * B + 8 * x];
+            CHECK(wrong == 0, "noise %d %s: resolution independence, %zu points differ", (int)d.noise,
+                  periodic ? "periodic" : "ffc", wrong);
+            if (!periodic)
+                check_level_statistics("cpu noise", hb, &big);
+            free(h), free(reg), free(hb);
+        }
+    }
+    free(gauss);
+}
+
 int main(void)
 {
     test_desc();
+    test_noise_desc();
+    test_noise_fields();
     test_regions_invalid();
     test_regions_exact();
     test_regions_deep();
+    test_densify();
     test_periodic();
     test_contract_points();
     test_exact_properties();

@@ -1,0 +1,113 @@
+/* cli_inputs.c — inputs of `fracterra generate` beyond numbers: the coarse grid to densify (--coarse), the maps that
+ * vary roughness and amplitude by area, and the noise distribution (--noise). */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+int frt_cli_read_field(const char *path, const char *what, float **out, frt_field_info *info)
+{
+    char err[1200];
+    *out = NULL;
+    frt_result r = frt_read_heightfield_info(path, info, err, sizeof err);
+    if (r != FRT_SUCCESS)
+        return frt_cli_fail(r == FRT_ERROR_IO ? FRT_EXIT_IO : FRT_EXIT_USAGE, "%s: %s", what, err);
+    const size_t count = (size_t)info->width * info->height;
+    float *h = malloc((count ? count : 1) * sizeof *h);
+    if (!h)
+        return frt_cli_fail(FRT_EXIT_IO, "%s: cannot allocate %.1f MiB for %u x %u heights", what,
+                            (double)count * 4.0 / 1048576.0, info->width, info->height);
+    r = frt_read_heightfield(path, h, count, info, err, sizeof err);
+    if (r != FRT_SUCCESS) {
+        free(h);
+        return frt_cli_fail(r == FRT_ERROR_IO ? FRT_EXIT_IO : FRT_EXIT_USAGE, "%s: %s", what, err);
+    }
+    *out = h;
+    return FRT_EXIT_OK;
+}
+
+int frt_cli_load_coarse(const char *path, bool periodic, float **grid, uint32_t *k, frt_field_info *info)
+{
+    int code = frt_cli_read_field(path, "--coarse", grid, info);
+    if (code != FRT_EXIT_OK)
+        return code;
+    const uint32_t w = info->width, h = info->height, extra = periodic ? 0u : 1u;
+    uint32_t levels = 0;
+    while (levels < FRT_MAX_LEVELS && (1u << levels) + extra < w)
+        ++levels;
+    if (w != h || levels == 0 || (1u << levels) + extra != w) {
+        free(*grid);
+        *grid = NULL;
+        return frt_cli_fail(FRT_EXIT_USAGE,
+                            "--coarse %s is %u x %u: densifying needs a square grid of 2^k%s samples per side (%s, for "
+                            "example), k = 1..%u; crop or resample it first (e.g. gdalwarp -ts %u %u)",
+                            path, w, h, periodic ? "" : " + 1", periodic ? "64 or 128" : "65 or 129", FRT_MAX_LEVELS,
+                            (1u << (levels ? levels : 1)) + extra, (1u << (levels ? levels : 1)) + extra);
+    }
+    *k = levels;
+    return FRT_EXIT_OK;
+}
+
+int frt_cli_load_map(const char *path, frt_cli_map kind, float **data, frt_map *map)
+{
+    static const char *const names[] = {"--roughness-map", "--dimension-map", "--amplitude-map"};
+    frt_field_info info;
+    int code = frt_cli_read_field(path, names[kind], data, &info);
+    if (code != FRT_EXIT_OK)
+        return code;
+    const size_t count = (size_t)info.width * info.height;
+    const char *problem = NULL;
+    size_t bad = 0;
+    if (info.width < 2 || info.height < 2)
+        problem = "a map needs at least 2 x 2 samples";
+    for (size_t i = 0; !problem && i < count; ++i) {
+        float v = (*data)[i];
+        if (kind == FRT_CLI_MAP_DIMENSION) {
+            if (!(v > 2.0f && v < 3.0f))
+                problem = "a fractal dimension D must lie in (2, 3)", bad = i;
+            else
+                (*data)[i] = 3.0f - v; /* H = 3 - D, once, on the host */
+        } else if (kind == FRT_CLI_MAP_HURST && !(v > 0.0f && v < 1.0f)) {
+            problem = "H must lie in (0, 1)", bad = i;
+        } else if (kind == FRT_CLI_MAP_AMPLITUDE && !isfinite(v)) {
+            problem = "an amplitude factor must be finite", bad = i;
+        }
+    }
+    if (problem) {
+        const float v = count ? (*data)[bad] : 0.0f; /* as read: the loop stopped before converting it */
+        free(*data);
+        *data = NULL;
+        if (info.width < 2 || info.height < 2)
+            return frt_cli_fail(FRT_EXIT_USAGE, "%s %s is %u x %u: %s", names[kind], path, info.width, info.height,
+                                problem);
+        return frt_cli_fail(FRT_EXIT_USAGE, "%s %s: value %g at column %zu, row %zu: %s", names[kind], path, v,
+                            bad % info.width, bad / info.width, problem);
+    }
+    map->data = *data;
+    map->width = info.width;
+    map->height = info.height;
+    return FRT_EXIT_OK;
+}
+
+bool frt_parse_noise(const char *s, frt_noise_kind *kind, double *param)
+{
+    static const struct {
+        const char *name;
+        frt_noise_kind kind;
+    } names[] = {{"gauss", FRT_NOISE_GAUSS},
+                 {"truncated", FRT_NOISE_TRUNCATED},
+                 {"clt", FRT_NOISE_CLT},
+                 {"uniform", FRT_NOISE_UNIFORM}};
+    const char *colon = strchr(s, ':');
+    const size_t len = colon ? (size_t)(colon - s) : strlen(s);
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
+        if (strlen(names[i].name) == len && strncmp(s, names[i].name, len) == 0) {
+            *kind = names[i].kind;
+            *param = 0.0;
+            if (!colon)
+                return true;
+            return (names[i].kind == FRT_NOISE_TRUNCATED || names[i].kind == FRT_NOISE_CLT) &&
+                   frt_parse_double(colon + 1, param) && *param > 0.0;
+        }
+    return false;
+}
