@@ -51,5 +51,6 @@ int frt_cmd_generate(int argc, char **argv);
 int frt_cmd_render(int argc, char **argv);
 int frt_cmd_bench(int argc, char **argv);
 int frt_cmd_tiles(int argc, char **argv); /* cli_tiles.c */
+int frt_cmd_info(int argc, char **argv);  /* cli_info.c */
 
 #endif

@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,52 +15,72 @@
 
 static void generate_help(void)
 {
-    printf("Usage: fracterra generate [options] -o FILE [-o FILE ...]\n"
-           "\n"
-           "Generates a (2^N+1) x (2^N+1) heightfield by FFC random midpoint displacement (docs/ALGORITHM.md),\n"
-           "or a window of one (--region).\n"
-           "\n"
-           "Terrain:\n"
-           "  --levels N          refinement levels, grid side 2^N+1 (1..%u, or 1..%u with --region; default %u\n"
-           "                      -> 513 x 513)\n"
-           "  --hurst H           Hurst exponent, 0 < H < 1 (default %.1f); larger is smoother\n"
-           "  --dimension D       fractal dimension, 2 < D < 3, H = 3 - D (not with --hurst)\n"
-           "  --sigma S           amplitude, any non-zero real; negative inverts peaks and valleys (default 1)\n"
-           "  --seed U64          noise key, decimal or 0x hex (default 1)\n"
-           "  --edge E            ffc (default): (2^N+1)^2, border points average 3 neighbours;\n"
-           "                      periodic: 2^N x 2^N on a torus, copies tile without seams\n"
-           "  --region X0,Y0,W,H  only the W x H window at column X0, row Y0 of the grid, equal to that part of the\n"
-           "                      whole grid; only its ancestors are computed, so N may be up to %u. FFC: the\n"
-           "                      window lies inside the grid; periodic: X0, Y0 < 2^N and the window may wrap\n"
-           "  --backend B         auto | vulkan | cpu (default auto: Vulkan if a device exists, else CPU)\n"
-           "  --device D          Vulkan device by index or name substring (see: fracterra devices)\n"
-           "\n"
-           "Output (-o may be given several times; the extension picks the format):\n"
-           "  -o, --output FILE   .png  greyscale PNG, min..max -> 0..65535, parameters in text chunks\n"
-           "                      .pgm  Netpbm P5 greyscale, min..max -> 0..65535, parameters in comments\n"
-           "                      .npy  float32 for numpy.load\n"
-           "                      .f32  raw little-endian float32, row-major, with FILE.json sidecar\n"
-           "                      .obj  Wavefront OBJ triangle mesh with normals (z up, north = +y)\n"
-           "                      .ply  binary PLY triangle mesh with normals\n"
-           "  --bits 8|16         sample depth of .png and .pgm (default 16)\n"
-           "  --mesh-stride K     meshes keep every K-th row and column, and the last (default 1)\n"
-           "  --spacing D[,DY]    ground distance between columns (and rows), in height units (default 1);\n"
-           "                      recorded in the metadata, used by meshes and by the preview's shading\n"
-           "  --z-scale Z         meshes: vertex z = height * Z (default 1); recorded\n"
-           "  --preview FILE.png  also write a shaded-relief picture (Horn hillshade, light from the north-west)\n"
-           "  --preview-style S   hillshade | color (hypsometric colours over the hillshade; default hillshade)\n"
-           "  --frames DIR        write the field after each level, DIR/frame-00.png ... frame-NN.png: 16-bit\n"
-           "                      PNGs upsampled (nearest neighbour) to the final size on the final field's scale\n"
-           "                      (whole grids only, not with --region)\n"
-           "  --gif FILE.gif      the same frames as one animated GIF (at most 1025 pixels a side: larger\n"
-           "                      fields are subsampled; not with --region)\n"
-           "  -q, --quiet         no progress and no summary line on stderr\n"
-           "  -h, --help          this text\n"
-           "\n"
-           "Every file appears only when complete: it is written to a temporary file and renamed, so a failure\n"
-           "never leaves a partial file or replaces an existing one. Unwritable outputs are reported before any\n"
-           "work is done.\n",
-           FRT_MAX_LEVELS, FRT_MAX_REGION_LEVELS, FRT_DEFAULT_LEVELS, FRT_DEFAULT_HURST, FRT_MAX_REGION_LEVELS);
+    printf(
+        "Usage: fracterra generate [options] -o FILE [-o FILE ...]\n"
+        "\n"
+        "Generates a (2^N+1) x (2^N+1) heightfield by FFC random midpoint displacement (docs/ALGORITHM.md),\n"
+        "or a window of one (--region).\n"
+        "\n"
+        "Terrain:\n"
+        "  --levels N          refinement levels, grid side 2^N+1 (1..%u, or 1..%u with --region; default %u\n"
+        "                      -> 513 x 513)\n"
+        "  --hurst H           Hurst exponent, 0 < H < 1 (default %.1f); larger is smoother\n"
+        "  --dimension D       fractal dimension, 2 < D < 3, H = 3 - D (not with --hurst)\n"
+        "  --sigma S           amplitude, any non-zero real; negative inverts peaks and valleys (default 1)\n"
+        "  --seed U64          noise key, decimal or 0x hex (default 1)\n"
+        "  --edge E            ffc (default): (2^N+1)^2, border points average 3 neighbours;\n"
+        "                      periodic: 2^N x 2^N on a torus, copies tile without seams\n"
+        "  --region X0,Y0,W,H  only the W x H window at column X0, row Y0 of the grid, equal to that part of the\n"
+        "                      whole grid; only its ancestors are computed, so N may be up to %u. FFC: the\n"
+        "                      window lies inside the grid; periodic: X0, Y0 < 2^N and the window may wrap\n"
+        "  --noise DIST        distribution of the displacements, each of unit variance (ALGORITHM.md §2.8):\n"
+        "                      gauss (default) | truncated[:K] (|g| <= K, K in [1, 6], default 3: the\n"
+        "                      report's chopped Gaussian) | clt[:N] (sum of N uniforms, 1..16, default 4) | uniform\n"
+        "\n"
+        "Real data (ALGORITHM.md §3.4-3.6):\n"
+        "  --coarse FILE       densify known heights: a (2^k+1) x (2^k+1) grid (2^k x 2^k periodic) in any\n"
+        "                      readable format (.tif GeoTIFF, .png, .pgm, .npy, .f32) placed at spacing 2^(N-k);\n"
+        "                      its samples are kept exactly, no-data cells (NaN, the GeoTIFF nodata) are filled,\n"
+        "                      levels k+1..N are generated. Other sizes are refused (crop or resample first)\n"
+        "  --hurst auto        estimate H from the --coarse grid (variogram of its midpoint residuals)\n"
+        "  --sigma auto        estimate sigma from the --coarse grid likewise; the estimates are printed and\n"
+        "                      recorded in the outputs' metadata\n"
+        "  --roughness-map F   H per location (values in (0, 1)), bilinear over the unit square (not with --hurst)\n"
+        "  --dimension-map F   D per location (values in (2, 3)), H = 3 - D (not with --roughness-map)\n"
+        "  --amplitude-map F   a factor on sigma per location, bilinear over the unit square\n"
+        "\n"
+        "Device:\n"
+        "  --backend B         auto | vulkan | cpu (default auto: Vulkan if a device exists, else CPU)\n"
+        "  --device D          Vulkan device by index or name substring (see: fracterra devices)\n"
+        "\n"
+        "Output (-o may be given several times; the extension picks the format):\n"
+        "  -o, --output FILE   .png  greyscale PNG, min..max -> 0..65535, parameters in text chunks\n"
+        "                      .pgm  Netpbm P5 greyscale, min..max -> 0..65535, parameters in comments\n"
+        "                      .npy  float32 for numpy.load\n"
+        "                      .f32  raw little-endian float32, row-major, with FILE.json sidecar\n"
+        "                      .obj  Wavefront OBJ triangle mesh with normals (z up, north = +y)\n"
+        "                      .ply  binary PLY triangle mesh with normals\n"
+        "                      .tif  float32 GeoTIFF (GDAL); with a GeoTIFF --coarse, georeferenced like it with\n"
+        "                            pixels 2^(N-k) times smaller\n"
+        "  --bits 8|16         sample depth of .png and .pgm (default 16)\n"
+        "  --mesh-stride K     meshes keep every K-th row and column, and the last (default 1)\n"
+        "  --spacing D[,DY]    ground distance between columns (and rows), in height units (default 1);\n"
+        "                      recorded in the metadata, used by meshes and by the preview's shading\n"
+        "  --z-scale Z         meshes: vertex z = height * Z (default 1); recorded\n"
+        "  --preview FILE.png  also write a shaded-relief picture (Horn hillshade, light from the north-west)\n"
+        "  --preview-style S   hillshade | color (hypsometric colours over the hillshade; default hillshade)\n"
+        "  --frames DIR        write the field after each level, DIR/frame-00.png ... frame-NN.png: 16-bit\n"
+        "                      PNGs upsampled (nearest neighbour) to the final size on the final field's scale\n"
+        "                      (whole grids only, not with --region)\n"
+        "  --gif FILE.gif      the same frames as one animated GIF (at most 1025 pixels a side: larger\n"
+        "                      fields are subsampled; not with --region)\n"
+        "  -q, --quiet         no progress and no summary line on stderr\n"
+        "  -h, --help          this text\n"
+        "\n"
+        "Every file appears only when complete: it is written to a temporary file and renamed, so a failure\n"
+        "never leaves a partial file or replaces an existing one. Unwritable outputs are reported before any\n"
+        "work is done.\n",
+        FRT_MAX_LEVELS, FRT_MAX_REGION_LEVELS, FRT_DEFAULT_LEVELS, FRT_DEFAULT_HURST, FRT_MAX_REGION_LEVELS);
 }
 
 /* Opens the context for `backend`, or returns NULL with *use_cpu set for the auto fallback; on a hard failure
@@ -136,11 +157,125 @@ static int check_region(const frt_terrain_desc *d, const char *text)
     return FRT_EXIT_OK;
 }
 
+/* "X,Y": two finite numbers. */
+static bool parse_origin(const char *s, double *x, double *y)
+{
+    const char *comma = strchr(s, ',');
+    char buf[128];
+    if (!comma || (size_t)(comma - s) >= sizeof buf)
+        return false;
+    memcpy(buf, s, (size_t)(comma - s));
+    buf[comma - s] = '\0';
+    return frt_parse_double(buf, x) && frt_parse_double(comma + 1, y);
+}
+
+/* Appends formatted text to the history line, truncating at its size. */
+static void append(char *buf, size_t size, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static void append(char *buf, size_t size, const char *fmt, ...)
+{
+    size_t used = strlen(buf);
+    if (used + 1 >= size)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf + used, size - used, fmt, ap);
+    va_end(ap);
+}
+
+/* --coarse, --hurst/--sigma auto and the maps: reads the files, estimates, fills `d` (resolved) and a history line
+ * for the metadata; prints the estimates. Returns an exit code; the buffers are the caller's to free. */
+static int load_inputs(frt_terrain_desc *d, const char *coarse, const char *hmap, bool hmap_is_dimension,
+                       const char *amap, bool hurst_auto, bool sigma_auto, bool quiet, float **coarse_h, float **hmap_h,
+                       float **amap_h, frt_field_info *cinfo, char *history, size_t history_size)
+{
+    int code = FRT_EXIT_OK;
+    if (coarse) {
+        uint32_t k = 0;
+        frt_progress_begin("reading the coarse grid", 0);
+        code = frt_cli_load_coarse(coarse, d->edge == FRT_EDGE_PERIODIC, coarse_h, &k, cinfo);
+        frt_progress_end();
+        if (code != FRT_EXIT_OK)
+            return code;
+        if (k > d->levels)
+            return frt_cli_fail(FRT_EXIT_USAGE,
+                                "--coarse %s is %u x %u (k = %u levels): --levels must be at least %u to densify it",
+                                coarse, cinfo->width, cinfo->height, k, k);
+        d->coarse = *coarse_h;
+        d->coarse_levels = k;
+        size_t known = 0, cells = (size_t)cinfo->width * cinfo->height;
+        for (size_t i = 0; i < cells; ++i)
+            known += !isnan((*coarse_h)[i]);
+        append(history, history_size, "densified from %s (%u x %u, k = %u, %zu known, %zu no-data) to %u levels",
+               coarse, cinfo->width, cinfo->height, k, known, cells - known, d->levels);
+        if (known == 0)
+            return frt_cli_fail(FRT_EXIT_USAGE, "--coarse %s holds no known height (every cell is no-data)", coarse);
+    }
+    if (hurst_auto || sigma_auto) {
+        /* a periodic coarse grid (2^k)^2 is closed into (2^k+1)^2 by repeating its first row and column */
+        const uint32_t cs = cinfo->width, es = d->edge == FRT_EDGE_PERIODIC ? cs + 1 : cs;
+        float *e = malloc((size_t)es * es * sizeof *e);
+        if (!e)
+            return frt_cli_fail(FRT_EXIT_IO, "out of memory for the estimate");
+        for (uint32_t y = 0; y < es; ++y)
+            for (uint32_t x = 0; x < es; ++x)
+                e[(size_t)y * es + x] = (*coarse_h)[(size_t)(y % cs) * cs + x % cs];
+        frt_roughness est;
+        frt_result r = frt_estimate_roughness(e, es, &est);
+        free(e);
+        if (r != FRT_SUCCESS)
+            return frt_cli_fail(FRT_EXIT_USAGE,
+                                "--%s auto: %s has too few known heights with relief to estimate from (a %s grid needs "
+                                "at least 9 x 9 and at least three refinement steps with 16 known residuals)",
+                                hurst_auto ? "hurst" : "sigma", coarse,
+                                d->edge == FRT_EDGE_PERIODIC ? "8 x 8" : "9 x 9");
+        if (hurst_auto)
+            d->hurst = est.hurst;
+        const double sigma = sigma_auto ? exp2(est.log2_rms_centre + d->hurst * est.t_centre) : d->sigma;
+        if (sigma_auto)
+            d->sigma = sigma;
+        if (!quiet)
+            fprintf(stderr,
+                    "%s: estimated from %s (%u levels, %llu residuals, variogram of midpoint residuals): %s%.4g "
+                    "(D %.4g)%s, %ssigma %.6g\n",
+                    frt_cli_command, coarse, est.coarse_levels, (unsigned long long)est.residuals,
+                    hurst_auto ? "H " : "H (given) ", d->hurst, 3.0 - d->hurst,
+                    est.clamped && hurst_auto ? " [clamped]" : "", sigma_auto ? "" : "(given) ", d->sigma);
+        append(history, history_size,
+               "; %s%s%s estimated from it (variogram of midpoint residuals, %llu residuals): H %.6g, "
+               "sigma %.6g%s",
+               hurst_auto ? "hurst" : "", hurst_auto && sigma_auto ? " and " : "", sigma_auto ? "sigma" : "",
+               (unsigned long long)est.residuals, d->hurst, d->sigma, est.clamped && hurst_auto ? " (H clamped)" : "");
+    }
+    if (hmap) {
+        code = frt_cli_load_map(hmap, hmap_is_dimension ? FRT_CLI_MAP_DIMENSION : FRT_CLI_MAP_HURST, hmap_h,
+                                &d->hurst_map);
+        if (code != FRT_EXIT_OK)
+            return code;
+        append(history, history_size, "%s%s %s (%u x %u)", history[0] ? "; " : "",
+               hmap_is_dimension ? "dimension map" : "roughness map", hmap, d->hurst_map.width, d->hurst_map.height);
+    }
+    if (amap) {
+        code = frt_cli_load_map(amap, FRT_CLI_MAP_AMPLITUDE, amap_h, &d->amplitude_map);
+        if (code != FRT_EXIT_OK)
+            return code;
+        append(history, history_size, "%samplitude map %s (%u x %u)", history[0] ? "; " : "", amap,
+               d->amplitude_map.width, d->amplitude_map.height);
+    }
+    char why[256];
+    if (frt_terrain_desc_check(d, why, sizeof why) != FRT_SUCCESS)
+        return frt_cli_fail(FRT_EXIT_USAGE, "invalid parameters: %s", why);
+    return FRT_EXIT_OK;
+}
+
 #define MAX_OUTPUTS 8
 #define FMT_BIT(f) (1u << (f))
 #define ALL_HEIGHTFIELDS                                                                                               \
     (FMT_BIT(FRT_FILE_PNG) | FMT_BIT(FRT_FILE_PGM) | FMT_BIT(FRT_FILE_F32) | FMT_BIT(FRT_FILE_NPY) |                   \
-     FMT_BIT(FRT_FILE_OBJ) | FMT_BIT(FRT_FILE_PLY))
+     FMT_BIT(FRT_FILE_OBJ) | FMT_BIT(FRT_FILE_PLY) | FMT_BIT(FRT_FILE_TIFF))
 
 int frt_cmd_generate(int argc, char **argv)
 {
@@ -162,7 +297,14 @@ int frt_cmd_generate(int argc, char **argv)
         OPT_FRAMES,
         OPT_GIF,
         OPT_EDGE,
-        OPT_REGION
+        OPT_REGION,
+        OPT_NOISE,
+        OPT_COARSE,
+        OPT_HMAP,
+        OPT_DMAP,
+        OPT_AMAP,
+        OPT_CRS,
+        OPT_ORIGIN
     };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
                                          {"hurst", required_argument, 0, OPT_HURST},
@@ -181,6 +323,13 @@ int frt_cmd_generate(int argc, char **argv)
                                          {"gif", required_argument, 0, OPT_GIF},
                                          {"edge", required_argument, 0, OPT_EDGE},
                                          {"region", required_argument, 0, OPT_REGION},
+                                         {"noise", required_argument, 0, OPT_NOISE},
+                                         {"coarse", required_argument, 0, OPT_COARSE},
+                                         {"roughness-map", required_argument, 0, OPT_HMAP},
+                                         {"dimension-map", required_argument, 0, OPT_DMAP},
+                                         {"amplitude-map", required_argument, 0, OPT_AMAP},
+                                         {"crs", required_argument, 0, OPT_CRS},
+                                         {"origin", required_argument, 0, OPT_ORIGIN},
                                          {"output", required_argument, 0, 'o'},
                                          {"quiet", no_argument, 0, 'q'},
                                          {"help", no_argument, 0, 'h'},
@@ -190,7 +339,11 @@ int frt_cmd_generate(int argc, char **argv)
     frt_write_desc wd;
     memset(&wd, 0, sizeof wd);
     bool have_hurst = false, have_dim = false, quiet = false, have_bits = false, have_stride = false,
-         preview_color = false;
+         preview_color = false, hurst_auto = false, sigma_auto = false, have_levels = false, have_spacing = false;
+    const char *coarse = NULL, *hmap = NULL, *amap = NULL, *noise = NULL, *crs = NULL;
+    double origin_x = 0.0, origin_y = 0.0;
+    bool have_origin = false;
+    bool hmap_is_dimension = false;
     double dimension = 0.0;
     frt_backend backend = FRT_BACKEND_DEFAULT;
     const char *device = NULL, *outputs[MAX_OUTPUTS], *preview = NULL, *frames = NULL, *gif = NULL, *region = NULL;
@@ -206,10 +359,13 @@ int frt_cmd_generate(int argc, char **argv)
                 return frt_cli_fail(FRT_EXIT_USAGE,
                                     "--levels must be an integer from 1 to %u (or to %u with --region), got '%s'",
                                     FRT_MAX_LEVELS, FRT_MAX_REGION_LEVELS, optarg);
+            have_levels = true;
             break;
         case OPT_HURST:
-            if (!frt_parse_double(optarg, &desc.hurst) || !(desc.hurst > 0.0 && desc.hurst < 1.0))
-                return frt_cli_fail(FRT_EXIT_USAGE, "--hurst must be a number with 0 < H < 1, got '%s'", optarg);
+            hurst_auto = strcmp(optarg, "auto") == 0;
+            if (!hurst_auto && (!frt_parse_double(optarg, &desc.hurst) || !(desc.hurst > 0.0 && desc.hurst < 1.0)))
+                return frt_cli_fail(FRT_EXIT_USAGE, "--hurst must be a number with 0 < H < 1, or auto, got '%s'",
+                                    optarg);
             have_hurst = true;
             break;
         case OPT_DIMENSION:
@@ -218,9 +374,31 @@ int frt_cmd_generate(int argc, char **argv)
             have_dim = true;
             break;
         case OPT_SIGMA:
-            if (!frt_parse_double(optarg, &desc.sigma) || desc.sigma == 0.0 || fabs(desc.sigma) > 1e30)
-                return frt_cli_fail(FRT_EXIT_USAGE, "--sigma must be a non-zero number (|S| <= 1e30), got '%s'",
-                                    optarg);
+            sigma_auto = strcmp(optarg, "auto") == 0;
+            if (!sigma_auto && (!frt_parse_double(optarg, &desc.sigma) || desc.sigma == 0.0 || fabs(desc.sigma) > 1e30))
+                return frt_cli_fail(FRT_EXIT_USAGE,
+                                    "--sigma must be a non-zero number (|S| <= 1e30), or auto, got '%s'", optarg);
+            break;
+        case OPT_NOISE:
+            if (!frt_parse_noise(optarg, &desc.noise, &desc.noise_param))
+                return frt_cli_fail(FRT_EXIT_USAGE,
+                                    "--noise must be gauss, truncated[:K], clt[:N] or uniform, got '%s'", optarg);
+            noise = optarg;
+            break;
+        case OPT_COARSE: coarse = optarg; break;
+        case OPT_HMAP:
+        case OPT_DMAP:
+            if (hmap)
+                return frt_cli_fail(FRT_EXIT_USAGE, "give one of --roughness-map and --dimension-map (H = 3 - D)");
+            hmap = optarg;
+            hmap_is_dimension = c == OPT_DMAP;
+            break;
+        case OPT_AMAP: amap = optarg; break;
+        case OPT_CRS: crs = optarg; break;
+        case OPT_ORIGIN:
+            if (!parse_origin(optarg, &origin_x, &origin_y))
+                return frt_cli_fail(FRT_EXIT_USAGE, "--origin must be X,Y (two finite numbers), got '%s'", optarg);
+            have_origin = true;
             break;
         case OPT_SEED:
             if (!frt_parse_u64(optarg, &desc.seed))
@@ -246,6 +424,7 @@ int frt_cmd_generate(int argc, char **argv)
             if (!frt_parse_spacing(optarg, &wd.spacing_x, &wd.spacing_y))
                 return frt_cli_fail(FRT_EXIT_USAGE, "--spacing must be D or DX,DY with positive numbers, got '%s'",
                                     optarg);
+            have_spacing = true;
             break;
         case OPT_ZSCALE:
             if (!frt_parse_double(optarg, &wd.z_scale) || wd.z_scale == 0.0)
@@ -291,6 +470,16 @@ int frt_cmd_generate(int argc, char **argv)
         return frt_cli_fail(FRT_EXIT_USAGE, "give --hurst or --dimension, not both (H = 3 - D)");
     if (have_dim)
         desc.hurst = 3.0 - dimension;
+    if (coarse && !have_levels)
+        return frt_cli_fail(FRT_EXIT_USAGE, "--coarse needs --levels N: the levels of the densified grid (at least "
+                                            "the coarse grid's k, for its side 2^k + 1)");
+    if ((hurst_auto || sigma_auto) && !coarse)
+        return frt_cli_fail(FRT_EXIT_USAGE, "--%s auto estimates from known heights: it needs --coarse FILE",
+                            hurst_auto ? "hurst" : "sigma");
+    if (hmap && (have_hurst || have_dim))
+        return frt_cli_fail(FRT_EXIT_USAGE, "%s gives H per location: not with --hurst or --dimension",
+                            hmap_is_dimension ? "--dimension-map" : "--roughness-map");
+    (void)noise;
     if (desc.levels > FRT_MAX_LEVELS && !region)
         return frt_cli_fail(FRT_EXIT_USAGE,
                             "--levels %u needs --region: a whole grid is limited to %u levels (%u x %u); a region "
@@ -315,6 +504,12 @@ int frt_cmd_generate(int argc, char **argv)
             if (strcmp(outputs[i], outputs[j]) == 0)
                 return frt_cli_fail(FRT_EXIT_USAGE, "'%s' is given twice as an output", outputs[i]);
     }
+    bool tiff = false;
+    for (unsigned i = 0; i < n_outputs; ++i)
+        tiff |= formats[i] == FRT_FILE_TIFF;
+    if ((crs || have_origin) && !tiff)
+        return frt_cli_fail(FRT_EXIT_USAGE, "%s applies to .tif outputs, and there is none",
+                            crs ? "--crs" : "--origin");
     if (have_bits && !quantised)
         return frt_cli_fail(FRT_EXIT_USAGE, "--bits applies to .png and .pgm outputs, and there is none");
     if (have_stride && !mesh)
@@ -377,6 +572,56 @@ int frt_cmd_generate(int argc, char **argv)
     memset(&info, 0, sizeof info);
     const char *backend_name = "cpu", *device_name = "CPU reference";
     char label[640]; /* a label, a region and a device name */
+    float *coarse_h = NULL, *hmap_h = NULL, *amap_h = NULL;
+    char history[1024] = "";
+    double geotransform[6];
+    frt_field_info cinfo;
+    memset(&cinfo, 0, sizeof cinfo);
+    if (coarse || hmap || amap) {
+        code = load_inputs(&resolved, coarse, hmap, hmap_is_dimension, amap, hurst_auto, sigma_auto, quiet, &coarse_h,
+                           &hmap_h, &amap_h, &cinfo, history, sizeof history);
+        if (code != FRT_EXIT_OK)
+            goto out;
+        if (coarse) {
+            const double s = (double)(1u << (resolved.levels - resolved.coarse_levels));
+            if (!have_spacing) { /* the coarse grid's spacing, divided */
+                wd.spacing_x = cinfo.spacing_x / s;
+                wd.spacing_y = cinfo.spacing_y / s;
+            }
+            if (cinfo.has_geotransform) { /* same pixel centres, pixels s times smaller; a region where it lies */
+                const double *g = cinfo.geotransform;
+                geotransform[1] = g[1] / s, geotransform[2] = g[2] / s;
+                geotransform[4] = g[4] / s, geotransform[5] = g[5] / s;
+                geotransform[0] = g[0] + 0.5 * (g[1] - geotransform[1]) + 0.5 * (g[2] - geotransform[2]);
+                geotransform[3] = g[3] + 0.5 * (g[4] - geotransform[4]) + 0.5 * (g[5] - geotransform[5]);
+                if (region) {
+                    geotransform[0] += resolved.region.x * geotransform[1] + resolved.region.y * geotransform[2];
+                    geotransform[3] += resolved.region.x * geotransform[4] + resolved.region.y * geotransform[5];
+                }
+                wd.geotransform = geotransform;
+                wd.projection = cinfo.projection[0] ? cinfo.projection : NULL;
+            }
+        }
+        wd.history = history;
+    }
+    if (crs || have_origin) {
+        if (wd.geotransform) {
+            code = frt_cli_fail(FRT_EXIT_USAGE,
+                                "--coarse %s is georeferenced: its CRS and position are used, so %s "
+                                "does not apply",
+                                coarse, crs ? "--crs" : "--origin");
+            goto out;
+        }
+        if (have_origin) { /* north up: (X, Y) is the centre of the top-left sample; a region where it lies */
+            const double sx = wd.spacing_x > 0 ? wd.spacing_x : 1.0, sy = wd.spacing_y > 0 ? wd.spacing_y : 1.0;
+            geotransform[0] = origin_x + (double)resolved.region.x * sx - 0.5 * sx;
+            geotransform[1] = sx, geotransform[2] = 0.0;
+            geotransform[3] = origin_y - (double)resolved.region.y * sy + 0.5 * sy;
+            geotransform[4] = 0.0, geotransform[5] = -sy;
+            wd.geotransform = geotransform;
+        }
+        wd.projection = crs;
+    }
     if (!field) {
         code = frt_cli_fail(FRT_EXIT_DEVICE, "cannot allocate %.1f MiB for %u x %u heights on this host",
                             (double)width * height * 4.0 / 1048576.0, width, height);
@@ -474,5 +719,8 @@ out:
         rmdir(frames); /* only succeeds when empty: frames already written are complete files and stay */
     frt_context_destroy(ctx);
     free(field);
+    free(coarse_h);
+    free(hmap_h);
+    free(amap_h);
     return code;
 }

@@ -90,6 +90,8 @@ frt_result frt_estimate_roughness(const float *h, uint32_t side, frt_roughness *
         H = H < FRT_ROUGHNESS_MIN_HURST || isnan(H) ? FRT_ROUGHNESS_MIN_HURST : FRT_ROUGHNESS_MAX_HURST;
     const double tc = st / sw, yc = sy / sw;
     out->hurst = H;
+    out->t_centre = tc;
+    out->log2_rms_centre = yc;
     out->sigma = out->clamped ? exp2(yc + H * tc) : exp2(intercept);
     out->steps = steps;
     out->coarse_levels = k;

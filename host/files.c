@@ -94,6 +94,7 @@ frt_result frt_field_out_init(frt_field_out *f, const char *name, const float *h
     }
     f->backend = d.backend;
     f->device = d.device;
+    f->history = d.history;
     f->geotransform = d.geotransform;
     f->projection = d.projection;
     f->has_nodata = d.has_nodata;

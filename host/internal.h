@@ -201,6 +201,7 @@ typedef struct frt_field_out {
     bool has_terrain;             /* `terrain` is valid (resolved) */
     frt_terrain_desc terrain;     /* resolved */
     const char *backend, *device; /* NULL: not recorded */
+    const char *history;          /* NULL: not recorded */
     float min, max;               /* of the finite heights; 0, 0 when there are none */
     const double *geotransform;   /* GeoTIFF, as given (NULL: the default); checked by the writer */
     const char *projection;       /* GeoTIFF, as given (NULL or "": none) */

@@ -150,6 +150,9 @@ typedef struct frt_roughness {
     uint32_t coarse_levels; /* k of the (2^k+1)^2 grid */
     uint32_t steps;         /* diamond and square steps in the fit */
     uint64_t residuals;     /* midpoint residuals in the fit */
+    /* The fit's weighted centre: log2 RMS residual = log2_rms_centre at t = t_centre. For a given H the best sigma is
+     * 2^(log2_rms_centre + H t_centre) (what --sigma auto uses with an explicit H). */
+    double t_centre, log2_rms_centre;
 } frt_roughness;
 
 /* Estimates H and sigma of a (2^k+1)^2 grid `h` (row-major, NaN = no data) so that densifying it continues its
@@ -253,6 +256,7 @@ typedef struct frt_write_desc {
     const frt_terrain_desc *terrain; /* optional: the parameters that made the field, recorded as metadata */
     const char *backend;             /* optional: "vulkan" or "cpu", recorded */
     const char *device;              /* optional: device name, recorded */
+    const char *history;             /* optional: how the field was made, in words (recorded as "history") */
     /* GeoTIFF only. Affine map from (column, row) of the pixel corner to the map (GDAL's order): X = g[0] + col g[1]
      * + row g[2], Y = g[3] + col g[4] + row g[5]. NULL -> north up, pixel centres where the OBJ/PLY vertices lie:
      * {-spacing_x/2, spacing_x, 0, (height - 1/2) spacing_y, 0, -spacing_y}; a region of `terrain` is placed where

@@ -79,7 +79,7 @@ expect_fail 2 backend generate --backend gpu -o "$T/out.png"
 expect_fail 2 "unknown option" generate --levles 5 -o "$T/out.png"
 expect_fail 2 "needs a value" generate -o
 expect_fail 2 "missing -o" generate --levels 5
-expect_fail 2 ".tif" generate --levels 5 -o "$T/out.tif"
+expect_fail 2 ".xyz" generate --levels 5 -o "$T/out.xyz"
 expect_fail 2 "no extension" generate --levels 5 -o "$T/out"
 expect_fail 2 "unknown command" frobnicate
 expect_fail 4 "No such file" generate --levels 5 -o "$T/missing-dir/out.png"
@@ -208,7 +208,7 @@ assert frames == 8 and loops == 1, (frames, loops)
 PYEOF
 fi
 rm -rf "$T/frames2"
-"$BIN" generate --levels 5 --frames "$T/frames2" -o "$T/out.tif" 2>/dev/null
+"$BIN" generate --levels 5 --frames "$T/frames2" -o "$T/out.xyz" 2>/dev/null
 check '[ ! -e "$T/frames2" ]' "bad arguments create no frames directory"
 
 # ---- progress ----
@@ -298,6 +298,146 @@ expect_fail 2 "needs --region" generate --levels 20 -o "$T/out.png"
 expect_fail 2 "levels" generate --levels 31 --region 0,0,1,1 -o "$T/out.png"
 expect_fail 2 "--frames" generate --region 0,0,4,4 --frames "$T/out.frames" -o "$T/out.png"
 expect_fail 2 "--gif" generate --region 0,0,4,4 --gif "$T/out.gif"
+
+# ---- real data (ALGORITHM.md §3.4-3.6, §2.8): densify, estimates, maps, distributions, GeoTIFF ----
+if have_numpy; then
+    D="$T/dens"
+    mkdir -p "$D"
+    "$BIN" generate --levels 9 --hurst 0.7 --sigma 50 --seed 42 -o "$D/full.npy" -q && ok || bad "full field"
+    "$PY" -c '
+import sys, numpy as np
+d = sys.argv[1]; a = np.load(d + "/full.npy")
+c = a[::8, ::8].copy(); c[5:9, 20:30] = np.nan; c[0, 0] = np.nan; np.save(d + "/holes.npy", c)
+np.save(d + "/bad100.npy", np.zeros((100, 100), np.float32)); np.save(d + "/rect.npy", np.zeros((65, 33), np.float32))
+i = c.copy(); i[3, 3] = np.inf; np.save(d + "/inf.npy", i)
+np.save(d + "/allnan.npy", np.full((65, 65), np.nan, np.float32))
+h = np.zeros((2, 64), np.float32); h[:, :32] = 0.3; h[:, 32:] = 0.9; np.save(d + "/hmap.npy", h)
+np.save(d + "/dmap.npy", np.array([[2.5, 2.25], [2.75, 2.5]], np.float32))
+np.save(d + "/dmap_h.npy", np.array([[0.5, 0.75], [0.25, 0.5]], np.float32))
+np.save(d + "/amap.npy", np.array([[1, 3], [0.5, -1]], np.float32))
+np.save(d + "/hbad.npy", np.array([[0.5, 1.5], [0.5, 0.5]], np.float32))
+np.save(d + "/thin.npy", np.full((1, 5), 0.5, np.float32))
+' "$D" && ok || bad "numpy inputs"
+    # a coarse grid cut from a field, with holes, densifies back to exactly that field, on both backends
+    for be in auto cpu; do
+        "$BIN" generate --levels 9 --hurst 0.7 --sigma 50 --seed 42 --coarse "$D/holes.npy" --backend $be -o "$D/back_$be.npy" -o "$D/back_$be.f32" -q 2> "$T/err" && ok || bad "densify $be: $(cat "$T/err")"
+    done
+    "$PY" -c '
+import sys, numpy as np
+d = sys.argv[1]; a = np.load(d + "/full.npy")
+for be in ("auto", "cpu"):
+    b = np.load(d + "/back_%s.npy" % be)
+    assert np.array_equal(a.view(np.uint32), b.view(np.uint32)), be
+' "$D" && ok || bad "densifying every 8th point (with holes) of a field gives back the field bit for bit"
+    check 'grep -Eq "\"coarse_levels\": ?6" "$D/back_cpu.f32.json" && grep -q "densified from .*holes.npy (65 x 65, k = 6, 4184 known, 41 no-data)" "$D/back_cpu.f32.json"' "sidecar records the densify: $(cat "$D/back_cpu.f32.json")"
+    # known samples are kept bit for bit from every input format (as the library reads them)
+    "$BIN" generate --levels 6 --sigma 20 --seed 3 -o "$D/k.png" -o "$D/k.pgm" -o "$D/k.f32" -o "$D/k.npy" -o "$D/k.tif" -q && ok || bad "coarse in every format"
+    for ext in png pgm f32 npy tif; do
+        "$BIN" generate --levels 6 --coarse "$D/k.$ext" -o "$D/same_$ext.npy" -q 2> "$T/err" &&
+            "$BIN" generate --levels 8 --coarse "$D/k.$ext" --seed 9 -o "$D/up_$ext.npy" -q 2>> "$T/err" && ok || bad "densify from .$ext: $(cat "$T/err")"
+        "$PY" -c '
+import sys, numpy as np
+d, ext = sys.argv[1], sys.argv[2]
+s = np.load(d + "/same_%s.npy" % ext); u = np.load(d + "/up_%s.npy" % ext)
+assert s.shape == (65, 65) and u.shape == (257, 257)
+assert np.array_equal(u[::4, ::4].view(np.uint32), s.view(np.uint32))
+if ext in ("f32", "npy", "tif"):
+    assert np.array_equal(s.view(np.uint32), np.load(d + "/k.npy").view(np.uint32))
+' "$D" $ext && ok || bad "known samples of .$ext kept bit for bit"
+    done
+    # --hurst auto --sigma auto: printed, recorded, close to the truth (129^2 coarse: test_estimate bounds)
+    "$BIN" generate --levels 10 --hurst 0.6 --sigma 80 --seed 7 -o "$D/f10.npy" -q
+    "$PY" -c 'import sys, numpy as np; d = sys.argv[1]; np.save(d + "/c129.npy", np.load(d + "/f10.npy")[::8, ::8])' "$D"
+    "$BIN" generate --levels 10 --coarse "$D/c129.npy" --hurst auto --sigma auto --seed 8 -o "$D/auto.f32" 2> "$T/err" && ok || bad "auto: $(cat "$T/err")"
+    check 'grep -q "estimated from .*c129.npy (7 levels" "$T/err"' "estimates printed: $(cat "$T/err")"
+    "$PY" -c '
+import json, sys
+m = json.load(open(sys.argv[1] + "/auto.f32.json"))
+assert abs(m["hurst"] - 0.6) <= 0.1 and abs(m["sigma"] / 80 - 1) <= 0.2, m
+assert "hurst and sigma estimated" in m["history"], m["history"]
+' "$D" && ok || bad "estimates within H 0.1, sigma 20%, in the sidecar: $(cat "$D/auto.f32.json")"
+    "$BIN" generate --levels 10 --coarse "$D/c129.npy" --hurst 0.5 --sigma auto -o "$D/auto2.f32" 2> "$T/err" && grep -q "H (given) 0.5" "$T/err" && ok || bad "sigma auto with a given H: $(cat "$T/err")"
+    # maps: a dimension map equals the roughness map of H = 3 - D (exact values); both backends agree
+    "$BIN" generate --levels 8 --dimension-map "$D/dmap.npy" --amplitude-map "$D/amap.npy" -o "$D/dm.npy" -q 2> "$T/err" && ok || bad "dimension map: $(cat "$T/err")"
+    "$BIN" generate --levels 8 --roughness-map "$D/dmap_h.npy" --amplitude-map "$D/amap.npy" --backend cpu -o "$D/rm.npy" -o "$D/rm.f32" -q 2> "$T/err" && ok || bad "roughness map: $(cat "$T/err")"
+    "$PY" -c 'import sys, numpy as np; d = sys.argv[1]; assert np.array_equal(np.load(d + "/dm.npy").view(np.uint32), np.load(d + "/rm.npy").view(np.uint32))' "$D" && ok || bad "dimension map = roughness map of 3 - D, vulkan = cpu"
+    check 'grep -q "roughness map .*dmap_h.npy (2 x 2); amplitude map .*amap.npy (2 x 2)" "$D/rm.f32.json"' "maps recorded: $(cat "$D/rm.f32.json")"
+    "$BIN" generate --levels 10 --roughness-map "$D/hmap.npy" --backend cpu -o "$D/halves.npy" -q && ok || bad "halves map"
+    "$PY" -c '
+import sys, numpy as np
+h = np.load(sys.argv[1] + "/halves.npy").astype(np.float64)
+def rough(a):  # RMS of the finest square-step residuals along rows
+    return np.sqrt(np.mean((a[:, 1:-1:2] - 0.5 * (a[:, 0:-2:2] + a[:, 2::2])) ** 2))
+l, r = rough(h[:, 64:448]), rough(h[:, 576:960])
+assert l > 5 * r, (l, r)   # H 0.3 vs 0.9 at level 10: amplitude ratio 2^(-10*0.3)/2^(-10*0.9) = 64 (less the mean noise)
+' "$D" && ok || bad "roughness map: the rough half is rougher at the finest level"
+    # distributions: recorded, and the same bits on both backends
+    for nz in truncated:2 clt:4 uniform; do
+        "$BIN" generate --levels 8 --noise $nz -o "$D/nz.npy" -o "$D/nz.f32" -q 2> "$T/err" &&
+            "$BIN" generate --levels 8 --noise $nz --backend cpu -o "$D/nzc.npy" -q 2>> "$T/err" && ok || bad "--noise $nz: $(cat "$T/err")"
+        "$PY" -c 'import sys, numpy as np; d = sys.argv[1]; assert np.array_equal(np.load(d + "/nz.npy").view(np.uint32), np.load(d + "/nzc.npy").view(np.uint32))' "$D" && ok || bad "--noise $nz: vulkan = cpu"
+        check 'grep -Eq "\"noise\": ?\"${nz%%:*}\"" "$D/nz.f32.json"' "--noise $nz recorded: $(cat "$D/nz.f32.json")"
+    done
+    "$BIN" generate --levels 8 --noise gauss -o "$D/g1.npy" -q && "$BIN" generate --levels 8 -o "$D/g2.npy" -q && cmp -s "$D/g1.npy" "$D/g2.npy" && ok || bad "--noise gauss is the default"
+    # GeoTIFF: a georeferenced coarse grid gives an output with the same CRS, pixels 2^(N-k) smaller, same centres
+    "$BIN" generate --levels 5 --sigma 300 --crs EPSG:32633 --origin 500000,4600000 --spacing 30 -o "$D/geo.tif" -q 2> "$T/err" && ok || bad "georeferenced .tif: $(cat "$T/err")"
+    "$BIN" generate --levels 8 --coarse "$D/geo.tif" --hurst auto --sigma auto -o "$D/geo8.tif" -q 2> "$T/err" && ok || bad "densify a GeoTIFF: $(cat "$T/err")"
+    "$PY" - "$D" <<'PYEOF' && ok || bad "GeoTIFF georeferencing of the densified output"
+import struct, sys
+def tags(path):   # the first IFD's ModelPixelScale (33550), ModelTiepoint (33922) and GeoKeyDirectory (34735)
+    b = open(path, "rb").read()
+    e = "<" if b[:2] == b"II" else ">"
+    big = struct.unpack(e + "H", b[2:4])[0] == 43
+    if big:
+        off = struct.unpack(e + "Q", b[8:16])[0]; n = struct.unpack(e + "Q", b[off:off + 8])[0]; p = off + 8; esz = 20
+    else:
+        off = struct.unpack(e + "I", b[4:8])[0]; n = struct.unpack(e + "H", b[off:off + 2])[0]; p = off + 2; esz = 12
+    out = {}
+    for k in range(n):
+        ent = b[p + k * esz:p + (k + 1) * esz]
+        tag, typ = struct.unpack(e + "HH", ent[:4])
+        cnt, val = (struct.unpack(e + "Q", ent[4:12])[0], ent[12:20]) if big else (struct.unpack(e + "I", ent[4:8])[0], ent[8:12])
+        size = {3: 2, 12: 8}.get(typ, 1) * cnt
+        data = val[:size] if size <= len(val) else b[struct.unpack(e + ("Q" if big else "I"), val)[0]:][:size]
+        fmt = {3: "H", 12: "d"}.get(typ)
+        if fmt:
+            out[tag] = struct.unpack(e + fmt * cnt, data)
+    return out
+d = sys.argv[1]
+a, b = tags(d + "/geo.tif"), tags(d + "/geo8.tif")
+sa, sb = a[33550], b[33550]
+assert abs(sa[0] - 30) < 1e-9 and abs(sb[0] - 30 / 8) < 1e-9 and abs(sb[1] - 30 / 8) < 1e-9, (sa, sb)
+ta, tb = a[33922], b[33922]    # (i, j, k, X, Y, Z) of the corner of pixel (0, 0)
+ca = (ta[3] + sa[0] / 2, ta[4] - sa[1] / 2); cb = (tb[3] + sb[0] / 2, tb[4] - sb[1] / 2)
+assert abs(ca[0] - 500000) < 1e-6 and abs(ca[1] - 4600000) < 1e-6, ca     # --origin is the top-left centre
+assert abs(cb[0] - ca[0]) < 1e-6 and abs(cb[1] - ca[1]) < 1e-6, (ca, cb)  # same centre after densifying
+assert 32633 in b[34735], b[34735]                                           # EPSG:32633 kept
+PYEOF
+    # bad inputs: one line, exit 2 (4 for a missing file), no output
+    expect_fail 2 "2^k" generate --levels 9 --coarse "$D/bad100.npy" -o "$T/out.npy"
+    expect_fail 2 "square" generate --levels 9 --coarse "$D/rect.npy" -o "$T/out.npy"
+    expect_fail 2 "infinite" generate --levels 9 --coarse "$D/inf.npy" -o "$T/out.npy"
+    expect_fail 2 "no known height" generate --levels 9 --coarse "$D/allnan.npy" -o "$T/out.npy"
+    expect_fail 2 "at least 6" generate --levels 5 --coarse "$D/holes.npy" -o "$T/out.npy"
+    expect_fail 2 "needs --levels" generate --coarse "$D/holes.npy" -o "$T/out.npy"
+    expect_fail 4 "coarse" generate --levels 9 --coarse "$D/missing.npy" -o "$T/out.npy"
+    expect_fail 2 "needs --coarse" generate --levels 9 --hurst auto -o "$T/out.npy"
+    expect_fail 2 "needs --coarse" generate --levels 9 --sigma auto -o "$T/out.npy"
+    expect_fail 2 "(0, 1)" generate --levels 6 --roughness-map "$D/hbad.npy" -o "$T/out.npy"
+    expect_fail 2 "(2, 3)" generate --levels 6 --dimension-map "$D/dmap_h.npy" -o "$T/out.npy"
+    expect_fail 2 "2 x 2" generate --levels 6 --amplitude-map "$D/thin.npy" -o "$T/out.npy"
+    expect_fail 2 "not with --hurst" generate --levels 6 --hurst 0.5 --roughness-map "$D/hmap.npy" -o "$T/out.npy"
+    expect_fail 2 "one of" generate --levels 6 --roughness-map "$D/hmap.npy" --dimension-map "$D/dmap.npy" -o "$T/out.npy"
+    expect_fail 2 "--noise" generate --levels 6 --noise cauchy -o "$T/out.npy"
+    expect_fail 2 "noise" generate --levels 6 --noise truncated:0.5 -o "$T/out.npy"
+    expect_fail 2 "noise" generate --levels 6 --noise clt:2.5 -o "$T/out.npy"
+    expect_fail 2 "--noise" generate --levels 6 --noise uniform:3 -o "$T/out.npy"
+    expect_fail 2 "--crs" generate --levels 6 --crs EPSG:4326 -o "$T/out.npy"
+    expect_fail 2 "georeferenced" generate --levels 8 --coarse "$D/geo.tif" --origin 1,2 -o "$T/out.tif"
+    expect_fail 2 "CRS" generate --levels 6 --crs EPSG:999999 -o "$T/out.tif"
+else
+    echo "numpy not installed: skipping the densify checks"
+fi
 
 # ---- the manual names every option of every command ----
 MAN=$(dirname "$0")/../docs/fracterra.1
