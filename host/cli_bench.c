@@ -41,6 +41,11 @@ static void bench_help(void)
            "  --runs N            timed runs per case, at least 1 (default 5)\n"
            "  --backend B         all | vulkan | cpu (default all)\n"
            "  --device D          Vulkan device by index or name substring\n"
+           "  --noise DIST        the displacement distribution (as generate --noise; default gauss)\n"
+           "  --roughness-map F   measure with an H map (as generate); --amplitude-map F likewise\n"
+           "  --amplitude-map F   measure with an amplitude map\n"
+           "  --densify K         measure densifying: the coarse grid is every 2^(N-K)-th point of a field of K\n"
+           "                      levels (made once on the CPU); levels K+1..N are timed\n"
            "  --json              print JSON instead of a table\n",
            FRT_MAX_REGION_LEVELS, WINDOW_MAX_SIDE);
 }
@@ -87,7 +92,19 @@ static bool parse_levels(const char *s, uint32_t max, uint32_t *lv, uint32_t *n)
 int frt_cmd_bench(int argc, char **argv)
 {
     frt_cli_command = "fracterra bench";
-    enum { OPT_LEVELS = 256, OPT_RUNS, OPT_BACKEND, OPT_DEVICE, OPT_JSON, OPT_REGION, OPT_WINDOW };
+    enum {
+        OPT_LEVELS = 256,
+        OPT_RUNS,
+        OPT_BACKEND,
+        OPT_DEVICE,
+        OPT_JSON,
+        OPT_REGION,
+        OPT_WINDOW,
+        OPT_NOISE,
+        OPT_HMAP,
+        OPT_AMAP,
+        OPT_DENSIFY
+    };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
                                          {"runs", required_argument, 0, OPT_RUNS},
                                          {"backend", required_argument, 0, OPT_BACKEND},
@@ -95,11 +112,19 @@ int frt_cmd_bench(int argc, char **argv)
                                          {"json", no_argument, 0, OPT_JSON},
                                          {"region", no_argument, 0, OPT_REGION},
                                          {"window", required_argument, 0, OPT_WINDOW},
+                                         {"noise", required_argument, 0, OPT_NOISE},
+                                         {"roughness-map", required_argument, 0, OPT_HMAP},
+                                         {"amplitude-map", required_argument, 0, OPT_AMAP},
+                                         {"densify", required_argument, 0, OPT_DENSIFY},
                                          {"help", no_argument, 0, 'h'},
                                          {0, 0, 0, 0}};
     uint32_t runs = 5, win_w = 1024, win_h = 1024, lv[MAX_CASES], nlv = 0;
     bool json = false, want_vk = true, want_cpu = true, region = false;
-    const char *device = NULL, *levels_text = NULL, *window_text = NULL;
+    const char *device = NULL, *levels_text = NULL, *window_text = NULL, *hmap = NULL, *amap = NULL;
+    frt_noise_kind noise = FRT_NOISE_DEFAULT;
+    const char *noise_text = "";
+    double noise_param = 0.0;
+    uint32_t densify = 0;
     opterr = 0;
     optind = 1;
     int c;
@@ -136,6 +161,19 @@ int frt_cmd_bench(int argc, char **argv)
             break;
         case OPT_DEVICE: device = optarg; break;
         case OPT_JSON: json = true; break;
+        case OPT_NOISE:
+            if (!frt_parse_noise(optarg, &noise, &noise_param))
+                return frt_cli_fail(FRT_EXIT_USAGE,
+                                    "--noise must be gauss, truncated[:K], clt[:N] or uniform, got '%s'", optarg);
+            noise_text = optarg;
+            break;
+        case OPT_HMAP: hmap = optarg; break;
+        case OPT_AMAP: amap = optarg; break;
+        case OPT_DENSIFY:
+            if (!frt_parse_u32(optarg, &densify) || densify < 1 || densify > FRT_MAX_LEVELS)
+                return frt_cli_fail(FRT_EXIT_USAGE, "--densify must be an integer from 1 to %u, got '%s'",
+                                    FRT_MAX_LEVELS, optarg);
+            break;
         case 'h': bench_help(); return FRT_EXIT_OK;
         case ':': return frt_cli_fail(FRT_EXIT_USAGE, "option '%s' needs a value", argv[optind - 1]);
         default: return frt_cli_fail(FRT_EXIT_USAGE, "unknown option '%s' (see --help)", argv[optind - 1]);
@@ -153,6 +191,25 @@ int frt_cmd_bench(int argc, char **argv)
         return frt_cli_fail(FRT_EXIT_USAGE, "--window %u x %u does not fit in the %u x %u grid of levels %u", win_w,
                             win_h, frt_grid_side(lv[0]), frt_grid_side(lv[0]), lv[0]);
 
+    if (densify && densify > lv[0])
+        return frt_cli_fail(FRT_EXIT_USAGE, "--densify %u is deeper than --levels %u", densify, lv[0]);
+    frt_map hurst_map = {0}, amplitude_map = {0};
+    float *hmap_h = NULL, *amap_h = NULL, *coarse_h = NULL;
+    int load = hmap ? frt_cli_load_map(hmap, FRT_CLI_MAP_HURST, &hmap_h, &hurst_map) : FRT_EXIT_OK;
+    if (load == FRT_EXIT_OK && amap)
+        load = frt_cli_load_map(amap, FRT_CLI_MAP_AMPLITUDE, &amap_h, &amplitude_map);
+    if (load == FRT_EXIT_OK && densify) { /* the coarse grid: a whole field of K levels (seed 1) */
+        frt_terrain_desc cd = {0};
+        cd.levels = densify;
+        size_t cc = frt_heightfield_size(&cd);
+        coarse_h = malloc(cc * sizeof *coarse_h);
+        if (!coarse_h || frt_generate_cpu(&cd, coarse_h, cc, NULL) != FRT_SUCCESS)
+            load = frt_cli_fail(FRT_EXIT_DEVICE, "cannot make the coarse grid");
+    }
+    if (load != FRT_EXIT_OK) {
+        free(hmap_h), free(amap_h), free(coarse_h);
+        return load;
+    }
     frt_context *ctx = NULL;
     if (want_vk) {
         frt_context_desc cd;
@@ -160,8 +217,10 @@ int frt_cmd_bench(int argc, char **argv)
         cd.device = device;
         char err[1024];
         if (frt_context_create(&cd, &ctx, err, sizeof err) != FRT_SUCCESS) {
-            if (!want_cpu)
+            if (!want_cpu) {
+                free(hmap_h), free(amap_h), free(coarse_h);
                 return frt_cli_fail(FRT_EXIT_DEVICE, "%s", err);
+            }
             fprintf(stderr, "%s: warning: Vulkan skipped: %s\n", frt_cli_command, err);
         }
     }
@@ -171,7 +230,7 @@ int frt_cmd_bench(int argc, char **argv)
     bench_row *rows = calloc(2 * nlv, sizeof *rows);
     if (!field || !dev_t || !tot_t || !rows) {
         frt_context_destroy(ctx);
-        free(field), free(dev_t), free(tot_t), free(rows);
+        free(field), free(dev_t), free(tot_t), free(rows), free(hmap_h), free(amap_h), free(coarse_h);
         return frt_cli_fail(FRT_EXIT_DEVICE, "cannot allocate %.0f MiB for the benchmark", max_count * 4.0 / 1048576.0);
     }
     int nrows = 0, code = FRT_EXIT_OK;
@@ -180,6 +239,10 @@ int frt_cmd_bench(int argc, char **argv)
         frt_terrain_desc d;
         memset(&d, 0, sizeof d);
         d.levels = levels;
+        d.noise = noise, d.noise_param = noise_param;
+        d.hurst_map = hurst_map, d.amplitude_map = amplitude_map;
+        if (densify)
+            d.coarse = coarse_h, d.coarse_levels = densify;
         if (region) /* centred; the same window size at every level, so only the grid's depth changes */
             d.region = (frt_region){(side - win_w) / 2, (side - win_h) / 2, win_w, win_h};
         size_t count = frt_heightfield_size(&d);
@@ -234,6 +297,10 @@ int frt_cmd_bench(int argc, char **argv)
                    win_w, win_h);
         else
             printf("median of %u runs; points/s = side^2 / time\n", runs);
+        if (noise || hmap || amap || densify)
+            printf("with%s%s%s%s%s%s%s\n", noise ? " --noise " : "", noise ? noise_text : "",
+                   hmap ? " --roughness-map " : "", hmap ? hmap : "", amap ? " --amplitude-map " : "", amap ? amap : "",
+                   densify ? " --densify (levels K+1..N timed)" : "");
         printf("%-7s %-32s %6s %10s %12s %12s %12s %12s %10s\n", "backend", "device", "levels",
                region ? "grid side" : "side", "device ms", "total ms", "pts/s dev", "pts/s total", "cpu/this");
         for (int i = 0; i < nrows; ++i) {
@@ -248,6 +315,6 @@ int frt_cmd_bench(int argc, char **argv)
         }
     }
     frt_context_destroy(ctx);
-    free(field), free(dev_t), free(tot_t), free(rows);
+    free(field), free(dev_t), free(tot_t), free(rows), free(hmap_h), free(amap_h), free(coarse_h);
     return code;
 }

@@ -52,4 +52,19 @@ terrain() {
 # The thesis's growth, level by level, as one animated GIF.
 "$BIN" generate -q --levels 8 --hurst 0.7 --seed 11 --backend cpu --gif "$OUT/growth.gif"
 
+# Densify (issue 5): a rough sketch of 33 x 33 heights (two ridges and a valley, 480 m apart) filled to 513 x 513
+# (30 m). Before: the sketch alone (sigma ~ 0: the contract's midpoint interpolation); after: fractal detail with
+# H 0.8 and sigma 250 m. Both rendered with the same z-factor so that only the detail differs.
+/usr/bin/python3 - "$tmp/sketch.npy" <<'PYEOF'
+import sys, numpy as np
+y, x = np.mgrid[0:33, 0:33] / 32.0
+h = 900 * np.exp(-((x - 0.3) ** 2 / 0.02 + (y - 0.35) ** 2 / 0.2)) + 700 * np.exp(-((x - 0.75) ** 2 / 0.03 + (y - 0.6) ** 2 / 0.12))
+h += 250 * (1 - y) - 150 * np.exp(-((x - 0.52) ** 2) / 0.004)
+np.save(sys.argv[1], h.astype(np.float32))
+PYEOF
+"$BIN" generate -q --levels 9 --coarse "$tmp/sketch.npy" --spacing 30 --hurst 0.8 --sigma 1e-6 --seed 5 --backend cpu -o "$tmp/before.npy"
+"$BIN" generate -q --levels 9 --coarse "$tmp/sketch.npy" --spacing 30 --hurst 0.8 --sigma 250 --seed 5 --backend cpu -o "$tmp/after.npy"
+"$BIN" render -q "$tmp/before.npy" --style color --z-factor 1 -o "$OUT/densify-before.png"
+"$BIN" render -q "$tmp/after.npy" --style color --z-factor 1 -o "$OUT/densify-after.png"
+
 echo "gallery.sh: wrote $(ls "$OUT" | wc -l) files to $OUT" >&2
