@@ -1,4 +1,4 @@
-/* cli.c — the `fracterra` command: generate, tiles, render, devices, bench. Exit codes are listed in usage(). */
+/* cli.c — the `fracterra` command: generate, tiles, render, info, devices, bench. Exit codes: usage(). */
 #include "cli.h"
 
 #include <errno.h>
@@ -93,6 +93,38 @@ bool frt_parse_spacing(const char *s, double *dx, double *dy)
     return true;
 }
 
+int frt_cli_terrain_option(int opt, const char *arg, frt_terrain_desc *d, double *dimension)
+{
+    switch (opt) {
+    case FRT_OPT_HURST:
+        if (!frt_parse_double(arg, &d->hurst) || !(d->hurst > 0.0 && d->hurst < 1.0))
+            return frt_cli_fail(FRT_EXIT_USAGE, "--hurst must be a number with 0 < H < 1, got '%s'", arg);
+        return FRT_EXIT_OK;
+    case FRT_OPT_DIMENSION:
+        if (!frt_parse_double(arg, dimension) || !(*dimension > 2.0 && *dimension < 3.0))
+            return frt_cli_fail(FRT_EXIT_USAGE, "--dimension must be a number with 2 < D < 3, got '%s'", arg);
+        return FRT_EXIT_OK;
+    case FRT_OPT_SIGMA:
+        if (!frt_parse_double(arg, &d->sigma) || d->sigma == 0.0 || fabs(d->sigma) > 1e30)
+            return frt_cli_fail(FRT_EXIT_USAGE, "--sigma must be a non-zero number (|S| <= 1e30), got '%s'", arg);
+        return FRT_EXIT_OK;
+    case FRT_OPT_SEED:
+        if (!frt_parse_u64(arg, &d->seed))
+            return frt_cli_fail(FRT_EXIT_USAGE, "--seed must be an unsigned 64-bit integer, got '%s'", arg);
+        d->seed_is_explicit = true;
+        return FRT_EXIT_OK;
+    case FRT_OPT_EDGE:
+        if (strcmp(arg, "ffc") == 0)
+            d->edge = FRT_EDGE_FFC;
+        else if (strcmp(arg, "periodic") == 0)
+            d->edge = FRT_EDGE_PERIODIC;
+        else
+            return frt_cli_fail(FRT_EXIT_USAGE, "--edge must be ffc or periodic, got '%s'", arg);
+        return FRT_EXIT_OK;
+    }
+    return -1;
+}
+
 frt_file_format frt_cli_output_format(const char *path, unsigned allowed)
 {
     frt_file_format f = frt_file_format_from_path(path);
@@ -149,6 +181,7 @@ static void usage(FILE *f)
             "  fracterra tiles --levels N --out DIR   cut a grid of up to 2^30+1 a side into tiles, or an XYZ\n"
             "                                         pyramid of PNG tiles (see: fracterra tiles --help)\n"
             "  fracterra render IN -o OUT [options]   hillshade, colour relief or 1988-style profile plot\n"
+            "  fracterra info FILE [--json] [--stats] what a heightfield file holds (see: fracterra info --help)\n"
             "  fracterra devices                      list Vulkan devices\n"
             "  fracterra bench [options]              measure points/second per backend\n"
             "  fracterra --version | --help\n"
@@ -216,6 +249,9 @@ int main(int argc, char **argv)
         return frt_cmd_bench(argc - 1, argv + 1);
     if (strcmp(cmd, "tiles") == 0)
         return frt_cmd_tiles(argc - 1, argv + 1);
+    if (strcmp(cmd, "info") == 0)
+        return frt_cmd_info(argc - 1, argv + 1);
     return frt_cli_fail(FRT_EXIT_USAGE,
-                        "unknown command '%s' (commands: generate, tiles, render, devices, bench; see --help)", cmd);
+                        "unknown command '%s' (commands: generate, tiles, render, info, devices, bench; see --help)",
+                        cmd);
 }

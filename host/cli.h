@@ -19,6 +19,12 @@ bool frt_parse_u64(const char *s, uint64_t *out); /* decimal, or hex with 0x */
 bool frt_parse_double(const char *s, double *out);
 bool frt_parse_backend(const char *s, frt_backend *out);
 
+/* The terrain options that generate and tiles share, as getopt_long codes. */
+enum { FRT_OPT_HURST = 0x1000, FRT_OPT_DIMENSION, FRT_OPT_SIGMA, FRT_OPT_SEED, FRT_OPT_EDGE };
+/* Parses `arg` of one of them into `d` (--dimension into *dimension). Returns an exit code after printing the
+ * message (0: ok), or -1 when `opt` is not one of them. */
+int frt_cli_terrain_option(int opt, const char *arg, frt_terrain_desc *d, double *dimension);
+
 bool frt_parse_spacing(const char *s, double *dx, double *dy); /* "D" or "DX,DY", both > 0 */
 /* The format of an output path, or a usage failure naming the known extensions; `allowed` is a bit mask of
  * (1u << frt_file_format). Returns FRT_FILE_DEFAULT after printing the message. */

@@ -282,10 +282,6 @@ int frt_cmd_generate(int argc, char **argv)
     frt_cli_command = "fracterra generate";
     enum {
         OPT_LEVELS = 256,
-        OPT_HURST,
-        OPT_DIMENSION,
-        OPT_SIGMA,
-        OPT_SEED,
         OPT_BACKEND,
         OPT_DEVICE,
         OPT_BITS,
@@ -296,7 +292,6 @@ int frt_cmd_generate(int argc, char **argv)
         OPT_PREVIEW_STYLE,
         OPT_FRAMES,
         OPT_GIF,
-        OPT_EDGE,
         OPT_REGION,
         OPT_NOISE,
         OPT_COARSE,
@@ -307,10 +302,10 @@ int frt_cmd_generate(int argc, char **argv)
         OPT_ORIGIN
     };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
-                                         {"hurst", required_argument, 0, OPT_HURST},
-                                         {"dimension", required_argument, 0, OPT_DIMENSION},
-                                         {"sigma", required_argument, 0, OPT_SIGMA},
-                                         {"seed", required_argument, 0, OPT_SEED},
+                                         {"hurst", required_argument, 0, FRT_OPT_HURST},
+                                         {"dimension", required_argument, 0, FRT_OPT_DIMENSION},
+                                         {"sigma", required_argument, 0, FRT_OPT_SIGMA},
+                                         {"seed", required_argument, 0, FRT_OPT_SEED},
                                          {"backend", required_argument, 0, OPT_BACKEND},
                                          {"device", required_argument, 0, OPT_DEVICE},
                                          {"bits", required_argument, 0, OPT_BITS},
@@ -321,7 +316,7 @@ int frt_cmd_generate(int argc, char **argv)
                                          {"preview-style", required_argument, 0, OPT_PREVIEW_STYLE},
                                          {"frames", required_argument, 0, OPT_FRAMES},
                                          {"gif", required_argument, 0, OPT_GIF},
-                                         {"edge", required_argument, 0, OPT_EDGE},
+                                         {"edge", required_argument, 0, FRT_OPT_EDGE},
                                          {"region", required_argument, 0, OPT_REGION},
                                          {"noise", required_argument, 0, OPT_NOISE},
                                          {"coarse", required_argument, 0, OPT_COARSE},
@@ -361,24 +356,25 @@ int frt_cmd_generate(int argc, char **argv)
                                     FRT_MAX_LEVELS, FRT_MAX_REGION_LEVELS, optarg);
             have_levels = true;
             break;
-        case OPT_HURST:
-            hurst_auto = strcmp(optarg, "auto") == 0;
-            if (!hurst_auto && (!frt_parse_double(optarg, &desc.hurst) || !(desc.hurst > 0.0 && desc.hurst < 1.0)))
-                return frt_cli_fail(FRT_EXIT_USAGE, "--hurst must be a number with 0 < H < 1, or auto, got '%s'",
-                                    optarg);
-            have_hurst = true;
+        case FRT_OPT_HURST:
+        case FRT_OPT_SIGMA:
+            if (strcmp(optarg, "auto") == 0) { /* estimated from --coarse */
+                hurst_auto |= c == FRT_OPT_HURST;
+                sigma_auto |= c == FRT_OPT_SIGMA;
+                have_hurst |= c == FRT_OPT_HURST;
+                break;
+            }
+            /* fall through */
+        case FRT_OPT_DIMENSION:
+        case FRT_OPT_SEED:
+        case FRT_OPT_EDGE: {
+            int code = frt_cli_terrain_option(c, optarg, &desc, &dimension);
+            if (code != FRT_EXIT_OK)
+                return code;
+            have_hurst |= c == FRT_OPT_HURST;
+            have_dim |= c == FRT_OPT_DIMENSION;
             break;
-        case OPT_DIMENSION:
-            if (!frt_parse_double(optarg, &dimension) || !(dimension > 2.0 && dimension < 3.0))
-                return frt_cli_fail(FRT_EXIT_USAGE, "--dimension must be a number with 2 < D < 3, got '%s'", optarg);
-            have_dim = true;
-            break;
-        case OPT_SIGMA:
-            sigma_auto = strcmp(optarg, "auto") == 0;
-            if (!sigma_auto && (!frt_parse_double(optarg, &desc.sigma) || desc.sigma == 0.0 || fabs(desc.sigma) > 1e30))
-                return frt_cli_fail(FRT_EXIT_USAGE,
-                                    "--sigma must be a non-zero number (|S| <= 1e30), or auto, got '%s'", optarg);
-            break;
+        }
         case OPT_NOISE:
             if (!frt_parse_noise(optarg, &desc.noise, &desc.noise_param))
                 return frt_cli_fail(FRT_EXIT_USAGE,
@@ -399,11 +395,6 @@ int frt_cmd_generate(int argc, char **argv)
             if (!parse_origin(optarg, &origin_x, &origin_y))
                 return frt_cli_fail(FRT_EXIT_USAGE, "--origin must be X,Y (two finite numbers), got '%s'", optarg);
             have_origin = true;
-            break;
-        case OPT_SEED:
-            if (!frt_parse_u64(optarg, &desc.seed))
-                return frt_cli_fail(FRT_EXIT_USAGE, "--seed must be an unsigned 64-bit integer, got '%s'", optarg);
-            desc.seed_is_explicit = true;
             break;
         case OPT_BACKEND:
             if (!frt_parse_backend(optarg, &backend))
@@ -438,14 +429,6 @@ int frt_cmd_generate(int argc, char **argv)
             break;
         case OPT_FRAMES: frames = optarg; break;
         case OPT_GIF: gif = optarg; break;
-        case OPT_EDGE:
-            if (strcmp(optarg, "ffc") == 0)
-                desc.edge = FRT_EDGE_FFC;
-            else if (strcmp(optarg, "periodic") == 0)
-                desc.edge = FRT_EDGE_PERIODIC;
-            else
-                return frt_cli_fail(FRT_EXIT_USAGE, "--edge must be ffc or periodic, got '%s'", optarg);
-            break;
         case OPT_REGION:
             if (!parse_region(optarg, &desc.region))
                 return frt_cli_fail(FRT_EXIT_USAGE,

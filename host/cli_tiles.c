@@ -530,11 +530,6 @@ int frt_cmd_tiles(int argc, char **argv)
     frt_cli_command = "fracterra tiles";
     enum {
         OPT_LEVELS = 256,
-        OPT_HURST,
-        OPT_DIMENSION,
-        OPT_SIGMA,
-        OPT_SEED,
-        OPT_EDGE,
         OPT_BACKEND,
         OPT_DEVICE,
         OPT_TILE,
@@ -545,11 +540,11 @@ int frt_cmd_tiles(int argc, char **argv)
         OPT_ONLY
     };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
-                                         {"hurst", required_argument, 0, OPT_HURST},
-                                         {"dimension", required_argument, 0, OPT_DIMENSION},
-                                         {"sigma", required_argument, 0, OPT_SIGMA},
-                                         {"seed", required_argument, 0, OPT_SEED},
-                                         {"edge", required_argument, 0, OPT_EDGE},
+                                         {"hurst", required_argument, 0, FRT_OPT_HURST},
+                                         {"dimension", required_argument, 0, FRT_OPT_DIMENSION},
+                                         {"sigma", required_argument, 0, FRT_OPT_SIGMA},
+                                         {"seed", required_argument, 0, FRT_OPT_SEED},
+                                         {"edge", required_argument, 0, FRT_OPT_EDGE},
                                          {"backend", required_argument, 0, OPT_BACKEND},
                                          {"device", required_argument, 0, OPT_DEVICE},
                                          {"tile", required_argument, 0, OPT_TILE},
@@ -586,34 +581,18 @@ int frt_cmd_tiles(int argc, char **argv)
                                     FRT_MAX_REGION_LEVELS, optarg);
             have_levels = true;
             break;
-        case OPT_HURST:
-            if (!frt_parse_double(optarg, &desc.hurst) || !(desc.hurst > 0.0 && desc.hurst < 1.0))
-                return frt_cli_fail(FRT_EXIT_USAGE, "--hurst must be a number with 0 < H < 1, got '%s'", optarg);
-            have_hurst = true;
+        case FRT_OPT_HURST:
+        case FRT_OPT_DIMENSION:
+        case FRT_OPT_SIGMA:
+        case FRT_OPT_SEED:
+        case FRT_OPT_EDGE: {
+            int code = frt_cli_terrain_option(c, optarg, &desc, &dimension);
+            if (code != FRT_EXIT_OK)
+                return code;
+            have_hurst |= c == FRT_OPT_HURST;
+            have_dim |= c == FRT_OPT_DIMENSION;
             break;
-        case OPT_DIMENSION:
-            if (!frt_parse_double(optarg, &dimension) || !(dimension > 2.0 && dimension < 3.0))
-                return frt_cli_fail(FRT_EXIT_USAGE, "--dimension must be a number with 2 < D < 3, got '%s'", optarg);
-            have_dim = true;
-            break;
-        case OPT_SIGMA:
-            if (!frt_parse_double(optarg, &desc.sigma) || desc.sigma == 0.0 || fabs(desc.sigma) > 1e30)
-                return frt_cli_fail(FRT_EXIT_USAGE, "--sigma must be a non-zero number (|S| <= 1e30), got '%s'",
-                                    optarg);
-            break;
-        case OPT_SEED:
-            if (!frt_parse_u64(optarg, &desc.seed))
-                return frt_cli_fail(FRT_EXIT_USAGE, "--seed must be an unsigned 64-bit integer, got '%s'", optarg);
-            desc.seed_is_explicit = true;
-            break;
-        case OPT_EDGE:
-            if (strcmp(optarg, "ffc") == 0)
-                desc.edge = FRT_EDGE_FFC;
-            else if (strcmp(optarg, "periodic") == 0)
-                desc.edge = FRT_EDGE_PERIODIC;
-            else
-                return frt_cli_fail(FRT_EXIT_USAGE, "--edge must be ffc or periodic, got '%s'", optarg);
-            break;
+        }
         case OPT_BACKEND:
             if (!frt_parse_backend(optarg, &eng.backend))
                 return frt_cli_fail(FRT_EXIT_USAGE, "--backend must be auto, vulkan or cpu, got '%s'", optarg);

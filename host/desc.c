@@ -184,7 +184,7 @@ bool frt_region_is_set(const frt_region *g)
 /* Lattice boxes, finest first: level l's box holds the level-l lattice points (coordinates x / 2^(n-l)) that
  * level l + 1 reads. A level-l point at lattice x reads level l-1 at floor((x-1)/2) .. floor(x/2) + 1 (a copied
  * point its parent, a diamond its four corners, a square point its corners and the two recomputed diamonds). */
-void frt_region_boxes(const frt_terrain_desc *d, frt_box *boxes)
+uint64_t frt_region_boxes(const frt_terrain_desc *d, frt_box *boxes)
 {
     const bool periodic = d->edge == FRT_EDGE_PERIODIC;
     int64_t x0 = d->region.x, y0 = d->region.y;
@@ -209,6 +209,12 @@ void frt_region_boxes(const frt_terrain_desc *d, frt_box *boxes)
             y1 = y1 > last ? last : y1;
         }
     }
+    uint64_t scratch = 0;
+    for (uint32_t l = 0; l < d->levels; ++l) {
+        const uint64_t area = (uint64_t)boxes[l].width * boxes[l].height;
+        scratch = area > scratch ? area : scratch;
+    }
+    return scratch;
 }
 
 uint32_t frt_terrain_side(const frt_terrain_desc *desc)

@@ -229,13 +229,8 @@ static frt_result generate_region(frt_context *ctx, const frt_terrain_desc *d, c
                                   size_t count, frt_run_info *info, double t0)
 {
     frt_box boxes[FRT_MAX_REGION_LEVELS + 1];
-    frt_region_boxes(d, boxes);
+    const uint64_t scratch = frt_region_boxes(d, boxes);
     const uint32_t n = d->levels;
-    uint64_t scratch = 0;
-    for (uint32_t l = 0; l < n; ++l) {
-        uint64_t area = (uint64_t)boxes[l].width * boxes[l].height;
-        scratch = area > scratch ? area : scratch;
-    }
     const uint64_t floats = (uint64_t)count + 2 * scratch;
     const VkDeviceSize bytes = floats * sizeof(float);
     const uint32_t *max_groups = ctx->props.limits.maxComputeWorkGroupCount;

@@ -74,8 +74,9 @@ typedef struct frt_box {
     int64_t x, y;
     uint32_t width, height;
 } frt_box;
-/* The boxes a region needs at levels 0..n (boxes[n] is the region itself); `boxes` holds levels + 1 entries. */
-void frt_region_boxes(const frt_terrain_desc *resolved, frt_box *boxes);
+/* The boxes a region needs at levels 0..n (boxes[n] is the region itself); `boxes` holds levels + 1 entries.
+ * Returns the largest area of the boxes of levels 0..n-1: the scratch a generator needs for each of its two. */
+uint64_t frt_region_boxes(const frt_terrain_desc *resolved, frt_box *boxes);
 /* Per-level amplitudes sD(l), sS(l) computed in double and rounded once to float (§3). */
 float frt_sigma_diamond(const frt_terrain_desc *resolved, uint32_t level);
 float frt_sigma_square(const frt_terrain_desc *resolved, uint32_t level);

@@ -205,13 +205,8 @@ static float square(const region_level *r, int64_t a, int64_t b) /* exactly one 
 static frt_result generate_region(const frt_terrain_desc *d, float *out, const float *completed)
 {
     frt_box boxes[FRT_MAX_REGION_LEVELS + 1];
-    frt_region_boxes(d, boxes);
+    const size_t scratch = (size_t)frt_region_boxes(d, boxes);
     const uint32_t n = d->levels;
-    size_t scratch = 0;
-    for (uint32_t l = 0; l < n; ++l) {
-        size_t area = (size_t)boxes[l].width * boxes[l].height;
-        scratch = area > scratch ? area : scratch;
-    }
     float *buf = malloc(2 * scratch * sizeof *buf);
     if (!buf)
         return FRT_ERROR_OUT_OF_MEMORY;
