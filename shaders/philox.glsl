@@ -138,11 +138,20 @@ float frt_noise_draw(uint kind, uint n, float k, float scale, uint level, uint i
         return r;
     }
     // clt, uniform: u_m = float(word m mod 4 of the call with 4th counter word m / 4) * 2^-32, summed left to right
+    // Four words per Philox call, taken in order without dynamic indexing (the same sums as one word at a time).
     precise float s = 0.0; // 0 + u_0 = u_0 exactly
-    for (uint m = 0u; m < n; ++m) {
-        if (m > 0u && (m & 3u) == 0u)
-            w = frt_philox4x32_10(uvec4(i, j, level, m >> 2), key);
-        s = s + float(w[m & 3u]) * uintBitsToFloat(0x2F800000u);
+    const float scale32 = uintBitsToFloat(0x2F800000u);
+    for (uint q = 0u; 4u * q < n; ++q) {
+        if (q > 0u)
+            w = frt_philox4x32_10(uvec4(i, j, level, q), key);
+        const uint left = n - 4u * q;
+        s = s + float(w.x) * scale32;
+        if (left > 1u)
+            s = s + float(w.y) * scale32;
+        if (left > 2u)
+            s = s + float(w.z) * scale32;
+        if (left > 3u)
+            s = s + float(w.w) * scale32;
     }
     precise float r = (s - float(n) * 0.5) * scale; // N / 2 is exact
     return r;
