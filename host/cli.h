@@ -45,8 +45,13 @@ int frt_write_frames(const char *dir, const char *gif, const float *field, uint3
 
 /* cli_inputs.c: whole heightfield files as inputs. Each prints one message and returns an exit code (0: ok). */
 int frt_cli_read_field(const char *path, const char *what, float **out, frt_field_info *info);
-/* --coarse: a square (2^k+1)^2 grid (2^k x 2^k periodic); sets *k. */
-int frt_cli_load_coarse(const char *path, bool periodic, float **grid, uint32_t *k, frt_field_info *info);
+/* --coarse: a square (2^k+1)^2 grid (2^k x 2^k periodic); sets *k. With fit_pad (FFC only) any w x h grid, w, h >= 2,
+ * is placed at the top left of the smallest (2^k+1)^2 grid that holds it, the rest NaN (info keeps w x h). */
+int frt_cli_load_coarse(const char *path, bool periodic, bool fit_pad, float **grid, uint32_t *k, frt_field_info *info);
+/* --fit pad: fills the cells of the side x side grid outside its top-left w x h data by mirroring the data about
+ * its last row and column (docs/ALGORITHM.md §3.4), so that the detail added near those edges sees terrain like the
+ * data's rather than a cliff. Reads only data cells. */
+void frt_cli_mirror_pad(float *grid, uint32_t side, uint32_t w, uint32_t h);
 typedef enum frt_cli_map { FRT_CLI_MAP_HURST, FRT_CLI_MAP_DIMENSION, FRT_CLI_MAP_AMPLITUDE } frt_cli_map;
 /* A map (at least 2 x 2) with its values checked; a dimension map is converted to H = 3 - D. */
 int frt_cli_load_map(const char *path, frt_cli_map kind, float **data, frt_map *map);

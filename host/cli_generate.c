@@ -41,7 +41,12 @@ static void generate_help(void)
         "  --coarse FILE       densify known heights: a (2^k+1) x (2^k+1) grid (2^k x 2^k periodic) in any\n"
         "                      readable format (.tif GeoTIFF, .png, .pgm, .npy, .f32) placed at spacing 2^(N-k);\n"
         "                      its samples are kept exactly, no-data cells (NaN, the GeoTIFF nodata) are filled,\n"
-        "                      levels k+1..N are generated. Other sizes are refused (crop or resample first)\n"
+        "                      levels k+1..N are generated. Other sizes are refused (crop or resample first),\n"
+        "                      or:\n"
+        "  --fit pad           take a --coarse grid of any size w x h (at least 2 x 2): it is placed at the top\n"
+        "                      left of the smallest (2^k+1)^2 grid that holds it, the rest is filled by mirroring\n"
+        "                      the data about its last row and column, and the output is the data's area alone,\n"
+        "                      (w-1)*2^(N-k)+1 x (h-1)*2^(N-k)+1 (a --region must lie inside it); FFC only\n"
         "  --hurst auto        estimate H from the --coarse grid (variogram of its midpoint residuals)\n"
         "  --sigma auto        estimate sigma from the --coarse grid likewise; the estimates are printed and\n"
         "                      recorded in the outputs' metadata\n"
@@ -188,15 +193,18 @@ static void append(char *buf, size_t size, const char *fmt, ...)
 
 /* --coarse, --hurst/--sigma auto and the maps: reads the files, estimates, fills `d` (resolved) and a history line
  * for the metadata; prints the estimates. Returns an exit code; the buffers are the caller's to free. */
-static int load_inputs(frt_terrain_desc *d, const char *coarse, const char *hmap, bool hmap_is_dimension,
-                       const char *amap, bool hurst_auto, bool sigma_auto, bool quiet, float **coarse_h, float **hmap_h,
-                       float **amap_h, frt_field_info *cinfo, char *history, size_t history_size)
+static int load_inputs(frt_terrain_desc *d, const char *coarse, bool fit_pad, bool have_region, const char *hmap,
+                       bool hmap_is_dimension, const char *amap, bool hurst_auto, bool sigma_auto, bool quiet,
+                       float **coarse_h, float **hmap_h, float **amap_h, frt_field_info *cinfo, char *history,
+                       size_t history_size)
 {
     int code = FRT_EXIT_OK;
+    uint32_t cs = 0; /* the coarse grid's side, padded or not */
+    bool padded = false;
     if (coarse) {
         uint32_t k = 0;
         frt_progress_begin("reading the coarse grid", 0);
-        code = frt_cli_load_coarse(coarse, d->edge == FRT_EDGE_PERIODIC, coarse_h, &k, cinfo);
+        code = frt_cli_load_coarse(coarse, d->edge == FRT_EDGE_PERIODIC, fit_pad, coarse_h, &k, cinfo);
         frt_progress_end();
         if (code != FRT_EXIT_OK)
             return code;
@@ -206,17 +214,23 @@ static int load_inputs(frt_terrain_desc *d, const char *coarse, const char *hmap
                                 coarse, cinfo->width, cinfo->height, k, k);
         d->coarse = *coarse_h;
         d->coarse_levels = k;
+        cs = frt_grid_side(k) - (d->edge == FRT_EDGE_PERIODIC ? 1u : 0u);
+        padded = cs != cinfo->width || cs != cinfo->height;
         size_t known = 0, cells = (size_t)cinfo->width * cinfo->height;
-        for (size_t i = 0; i < cells; ++i)
+        for (size_t i = 0; i < (size_t)cs * cs; ++i) /* the padding is NaN until frt_cli_mirror_pad below */
             known += !isnan((*coarse_h)[i]);
-        append(history, history_size, "densified from %s (%u x %u, k = %u, %zu known, %zu no-data) to %u levels",
-               coarse, cinfo->width, cinfo->height, k, known, cells - known, d->levels);
+        char pad[96] = "";
+        if (padded)
+            snprintf(pad, sizeof pad, ", mirrored to %u x %u by --fit pad", cs, cs);
+        append(history, history_size, "densified from %s (%u x %u%s, k = %u, %zu known, %zu no-data) to %u levels",
+               coarse, cinfo->width, cinfo->height, pad, k, known, cells - known, d->levels);
         if (known == 0)
             return frt_cli_fail(FRT_EXIT_USAGE, "--coarse %s holds no known height (every cell is no-data)", coarse);
     }
     if (hurst_auto || sigma_auto) {
-        /* a periodic coarse grid (2^k)^2 is closed into (2^k+1)^2 by repeating its first row and column */
-        const uint32_t cs = cinfo->width, es = d->edge == FRT_EDGE_PERIODIC ? cs + 1 : cs;
+        /* a periodic coarse grid (2^k)^2 is closed into (2^k+1)^2 by repeating its first row and column; a padded
+         * one is still NaN outside the data, so the estimate sees the data alone */
+        const uint32_t es = d->edge == FRT_EDGE_PERIODIC ? cs + 1 : cs;
         float *e = malloc((size_t)es * es * sizeof *e);
         if (!e)
             return frt_cli_fail(FRT_EXIT_IO, "out of memory for the estimate");
@@ -249,6 +263,27 @@ static int load_inputs(frt_terrain_desc *d, const char *coarse, const char *hmap
                "sigma %.6g%s",
                hurst_auto ? "hurst" : "", hurst_auto && sigma_auto ? " and " : "", sigma_auto ? "sigma" : "",
                (unsigned long long)est.residuals, d->hurst, d->sigma, est.clamped && hurst_auto ? " (H clamped)" : "");
+    }
+    if (padded) {
+        frt_cli_mirror_pad(*coarse_h, cs, cinfo->width, cinfo->height);
+        /* the data's area of the grid at N levels: coarse sample (a, b) is grid point (a, b) * 2^(N-k) */
+        const uint64_t s = UINT64_C(1) << (d->levels - d->coarse_levels);
+        const uint64_t dw = (cinfo->width - 1) * s + 1, dh = (cinfo->height - 1) * s + 1;
+        if (!have_region && dw * dh > FRT_FILE_MAX_POINTS)
+            return frt_cli_fail(FRT_EXIT_USAGE,
+                                "--coarse %s at --levels %u covers %llu x %llu heights: more than 2^32, the most a "
+                                "fracterra file holds (use fewer levels, or --region)",
+                                coarse, d->levels, (unsigned long long)dw, (unsigned long long)dh);
+        if (!have_region) {
+            d->region.x = d->region.y = 0;
+            d->region.width = (uint32_t)dw, d->region.height = (uint32_t)dh;
+        } else if ((uint64_t)d->region.x + d->region.width > dw || (uint64_t)d->region.y + d->region.height > dh) {
+            return frt_cli_fail(FRT_EXIT_USAGE,
+                                "--region %u,%u,%u,%u reaches outside the data's area, %llu x %llu at --levels %u "
+                                "(--coarse %s is %u x %u, padded by --fit pad)",
+                                d->region.x, d->region.y, d->region.width, d->region.height, (unsigned long long)dw,
+                                (unsigned long long)dh, d->levels, coarse, cinfo->width, cinfo->height);
+        }
     }
     if (hmap) {
         code = frt_cli_load_map(hmap, hmap_is_dimension ? FRT_CLI_MAP_DIMENSION : FRT_CLI_MAP_HURST, hmap_h,
@@ -299,7 +334,8 @@ int frt_cmd_generate(int argc, char **argv)
         OPT_DMAP,
         OPT_AMAP,
         OPT_CRS,
-        OPT_ORIGIN
+        OPT_ORIGIN,
+        OPT_FIT
     };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
                                          {"hurst", required_argument, 0, FRT_OPT_HURST},
@@ -320,6 +356,7 @@ int frt_cmd_generate(int argc, char **argv)
                                          {"region", required_argument, 0, OPT_REGION},
                                          {"noise", required_argument, 0, OPT_NOISE},
                                          {"coarse", required_argument, 0, OPT_COARSE},
+                                         {"fit", required_argument, 0, OPT_FIT},
                                          {"roughness-map", required_argument, 0, OPT_HMAP},
                                          {"dimension-map", required_argument, 0, OPT_DMAP},
                                          {"amplitude-map", required_argument, 0, OPT_AMAP},
@@ -338,7 +375,7 @@ int frt_cmd_generate(int argc, char **argv)
     const char *coarse = NULL, *hmap = NULL, *amap = NULL, *noise = NULL, *crs = NULL;
     double origin_x = 0.0, origin_y = 0.0;
     bool have_origin = false;
-    bool hmap_is_dimension = false;
+    bool hmap_is_dimension = false, fit_pad = false;
     double dimension = 0.0;
     frt_backend backend = FRT_BACKEND_DEFAULT;
     const char *device = NULL, *outputs[MAX_OUTPUTS], *preview = NULL, *frames = NULL, *gif = NULL, *region = NULL;
@@ -382,6 +419,14 @@ int frt_cmd_generate(int argc, char **argv)
             noise = optarg;
             break;
         case OPT_COARSE: coarse = optarg; break;
+        case OPT_FIT:
+            if (strcmp(optarg, "pad") != 0)
+                return frt_cli_fail(FRT_EXIT_USAGE,
+                                    "--fit must be pad (mirror the edges out to the next 2^k + 1), got '%s'; to "
+                                    "resample, use gdalwarp -ts first",
+                                    optarg);
+            fit_pad = true;
+            break;
         case OPT_HMAP:
         case OPT_DMAP:
             if (hmap)
@@ -456,6 +501,12 @@ int frt_cmd_generate(int argc, char **argv)
     if (coarse && !have_levels)
         return frt_cli_fail(FRT_EXIT_USAGE, "--coarse needs --levels N: the levels of the densified grid (at least "
                                             "the coarse grid's k, for its side 2^k + 1)");
+    if (fit_pad && !coarse)
+        return frt_cli_fail(FRT_EXIT_USAGE, "--fit pad applies to a --coarse grid, and there is none");
+    if (fit_pad && desc.edge == FRT_EDGE_PERIODIC)
+        return frt_cli_fail(FRT_EXIT_USAGE,
+                            "--fit pad needs --edge ffc: a padded grid does not wrap (a periodic --coarse grid must be "
+                            "2^k x 2^k)");
     if ((hurst_auto || sigma_auto) && !coarse)
         return frt_cli_fail(FRT_EXIT_USAGE, "--%s auto estimates from known heights: it needs --coarse FILE",
                             hurst_auto ? "hurst" : "sigma");
@@ -516,16 +567,6 @@ int frt_cmd_generate(int argc, char **argv)
     }
     if (region && check_region(&resolved, region) != FRT_EXIT_OK)
         return FRT_EXIT_USAGE;
-    /* The output is the region's window, or the whole grid; `side` is the whole (virtual) grid's. */
-    const uint32_t side = frt_terrain_side(&resolved);
-    uint32_t width = 0, height = 0;
-    frt_terrain_extent(&resolved, &width, &height);
-    const size_t count = frt_heightfield_size(&resolved);
-    char where[128] = ""; /* " at X0,Y0 of the S x S grid" for a region */
-    if (region)
-        snprintf(where, sizeof where, " at %u,%u of the %u x %u grid", resolved.region.x, resolved.region.y, side,
-                 side);
-
     /* Unwritable targets fail before any work. */
     int code = FRT_EXIT_OK;
     for (unsigned i = 0; i < n_outputs; ++i)
@@ -548,7 +589,7 @@ int frt_cmd_generate(int argc, char **argv)
     }
 
     frt_progress_init(quiet);
-    float *field = count && count <= SIZE_MAX / sizeof *field ? malloc(count * sizeof *field) : NULL;
+    float *field = NULL;
     frt_context *ctx = NULL;
     bool use_cpu = backend == FRT_BACKEND_CPU;
     frt_run_info info;
@@ -561,10 +602,17 @@ int frt_cmd_generate(int argc, char **argv)
     frt_field_info cinfo;
     memset(&cinfo, 0, sizeof cinfo);
     if (coarse || hmap || amap) {
-        code = load_inputs(&resolved, coarse, hmap, hmap_is_dimension, amap, hurst_auto, sigma_auto, quiet, &coarse_h,
-                           &hmap_h, &amap_h, &cinfo, history, sizeof history);
+        code = load_inputs(&resolved, coarse, fit_pad, region != NULL, hmap, hmap_is_dimension, amap, hurst_auto,
+                           sigma_auto, quiet, &coarse_h, &hmap_h, &amap_h, &cinfo, history, sizeof history);
         if (code != FRT_EXIT_OK)
             goto out;
+        if (resolved.region.width && !region && (frames || gif)) {
+            code = frt_cli_fail(FRT_EXIT_USAGE,
+                                "%s does not apply to --fit pad: the output is the data's area of the grid, and the "
+                                "growth frames are those of a whole grid",
+                                frames ? "--frames" : "--gif");
+            goto out;
+        }
         if (coarse) {
             const double s = (double)(1u << (resolved.levels - resolved.coarse_levels));
             if (!have_spacing) { /* the coarse grid's spacing, divided */
@@ -605,6 +653,20 @@ int frt_cmd_generate(int argc, char **argv)
         }
         wd.projection = crs;
     }
+    /* The output is the region's window (given, or the data's area of a --fit pad grid), or the whole grid; `side`
+     * is the whole (virtual) grid's. */
+    const uint32_t side = frt_terrain_side(&resolved);
+    uint32_t width = 0, height = 0;
+    frt_terrain_extent(&resolved, &width, &height);
+    const size_t count = frt_heightfield_size(&resolved);
+    char where[128] = ""; /* " at X0,Y0 of the S x S grid" for a region */
+    if (region)
+        snprintf(where, sizeof where, " at %u,%u of the %u x %u grid", resolved.region.x, resolved.region.y, side,
+                 side);
+    else if (resolved.region.width)
+        snprintf(where, sizeof where, " (the data's area of the %u x %u grid)", side, side);
+    if (count && count <= SIZE_MAX / sizeof *field)
+        field = malloc(count * sizeof *field);
     if (!field) {
         code = frt_cli_fail(FRT_EXIT_DEVICE, "cannot allocate %.1f MiB for %u x %u heights on this host",
                             (double)width * height * 4.0 / 1048576.0, width, height);

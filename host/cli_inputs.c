@@ -26,26 +26,69 @@ int frt_cli_read_field(const char *path, const char *what, float **out, frt_fiel
     return FRT_EXIT_OK;
 }
 
-int frt_cli_load_coarse(const char *path, bool periodic, float **grid, uint32_t *k, frt_field_info *info)
+int frt_cli_load_coarse(const char *path, bool periodic, bool fit_pad, float **grid, uint32_t *k, frt_field_info *info)
 {
     int code = frt_cli_read_field(path, "--coarse", grid, info);
     if (code != FRT_EXIT_OK)
         return code;
-    const uint32_t w = info->width, h = info->height, extra = periodic ? 0u : 1u;
+    const uint32_t w = info->width, h = info->height, extra = periodic ? 0u : 1u, big = w > h ? w : h;
     uint32_t levels = 0;
-    while (levels < FRT_MAX_LEVELS && (1u << levels) + extra < w)
+    while (levels < FRT_MAX_LEVELS && (1u << levels) + extra < big)
         ++levels;
-    if (w != h || levels == 0 || (1u << levels) + extra != w) {
+    if (levels == 0) /* k >= 1: at least the 3 x 3 (2 x 2 periodic) grid */
+        levels = 1;
+    const uint32_t side = (1u << levels) + extra;
+    if (w == h && levels > 0 && side == w) {
+        *k = levels;
+        return FRT_EXIT_OK;
+    }
+    if (!fit_pad || w < 2 || h < 2 || side < big) {
         free(*grid);
         *grid = NULL;
+        if (side < big)
+            return frt_cli_fail(FRT_EXIT_USAGE, "--coarse %s is %u x %u: larger than the largest coarse grid, %u x %u",
+                                path, w, h, frt_grid_side(FRT_MAX_LEVELS), frt_grid_side(FRT_MAX_LEVELS));
+        if (fit_pad)
+            return frt_cli_fail(FRT_EXIT_USAGE, "--coarse %s is %u x %u: --fit pad needs at least 2 x 2 samples", path,
+                                w, h);
         return frt_cli_fail(FRT_EXIT_USAGE,
                             "--coarse %s is %u x %u: densifying needs a square grid of 2^k%s samples per side (%s, for "
-                            "example), k = 1..%u; crop or resample it first (e.g. gdalwarp -ts %u %u)",
+                            "example), k = 1..%u; %scrop or resample it first (e.g. gdalwarp -ts %u %u)",
                             path, w, h, periodic ? "" : " + 1", periodic ? "64 or 128" : "65 or 129", FRT_MAX_LEVELS,
-                            (1u << (levels ? levels : 1)) + extra, (1u << (levels ? levels : 1)) + extra);
+                            periodic ? ""
+                                     : "--fit pad mirrors its edges out to the next such size and keeps the "
+                                       "output to the data's area, or ",
+                            side, side);
     }
+    /* --fit pad (FFC only, checked by the caller): the data at the top left of the (2^k+1)^2 grid, the rest NaN;
+     * frt_cli_mirror_pad fills it once the estimate (which must see only the data) is done. */
+    float *padded = malloc((size_t)side * side * sizeof *padded);
+    if (!padded) {
+        free(*grid);
+        *grid = NULL;
+        return frt_cli_fail(FRT_EXIT_IO, "--coarse %s: out of memory padding it to %u x %u", path, side, side);
+    }
+    for (uint32_t y = 0; y < side; ++y)
+        for (uint32_t x = 0; x < side; ++x)
+            padded[(size_t)y * side + x] = x < w && y < h ? (*grid)[(size_t)y * w + x] : NAN;
+    free(*grid);
+    *grid = padded;
     *k = levels;
     return FRT_EXIT_OK;
+}
+
+/* Reflection about the last data index (w - 1), repeated with period 2 (w - 1): 0 1 .. w-1 w-2 .. 1 0 1 .. */
+static uint32_t mirror(uint32_t x, uint32_t w)
+{
+    const uint32_t period = 2 * (w - 1), m = x % period;
+    return m < w ? m : period - m;
+}
+
+void frt_cli_mirror_pad(float *grid, uint32_t side, uint32_t w, uint32_t h)
+{
+    for (uint32_t y = 0; y < side; ++y)
+        for (uint32_t x = y < h ? w : 0; x < side; ++x)
+            grid[(size_t)y * side + x] = grid[(size_t)mirror(y, h) * side + mirror(x, w)];
 }
 
 int frt_cli_load_map(const char *path, frt_cli_map kind, float **data, frt_map *map)
