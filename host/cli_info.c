@@ -78,21 +78,6 @@ static const char *edge_name(frt_edge e)
     return e == FRT_EDGE_PERIODIC ? "periodic" : "ffc";
 }
 
-static const char *noise_name(frt_noise_kind k)
-{
-    switch (k) {
-    case FRT_NOISE_TRUNCATED: return "truncated";
-    case FRT_NOISE_CLT: return "clt";
-    case FRT_NOISE_UNIFORM: return "uniform";
-    default: return "gauss";
-    }
-}
-
-static bool noise_has_param(frt_noise_kind k)
-{
-    return k == FRT_NOISE_TRUNCATED || k == FRT_NOISE_CLT;
-}
-
 /* D = 3 - H with 15 digits, as the writers record it, so that H = 0.8 shows D = 2.2 and not 2.2000000000000002. */
 static const char *dimension_text(char buf[static 32], double hurst)
 {
@@ -234,8 +219,8 @@ static void print_text(const char *path, const frt_field_info *in, const field_s
             line("region", "%u,%u,%u,%u", t->region.x, t->region.y, t->region.width, t->region.height);
             line("grid_side", "%u", frt_terrain_side(t));
         }
-        line("noise", "%s", noise_name(t->noise));
-        if (noise_has_param(t->noise))
+        line("noise", "%s", frt_noise_name(t->noise));
+        if (frt_noise_has_param(t->noise))
             line("noise_param", "%s", frt_double_text(a, t->noise_param));
     } else {
         line("parameters", "none recorded");
@@ -317,8 +302,8 @@ static json_object *terrain_json(const frt_terrain_desc *t)
     }
     json_object_object_add(o, "region", r);
     json_object_object_add(o, "grid_side", json_object_new_int64(frt_terrain_side(t)));
-    json_object_object_add(o, "noise", json_object_new_string(noise_name(t->noise)));
-    json_object_object_add(o, "noise_param", noise_has_param(t->noise) ? jdouble(t->noise_param) : NULL);
+    json_object_object_add(o, "noise", json_object_new_string(frt_noise_name(t->noise)));
+    json_object_object_add(o, "noise_param", frt_noise_has_param(t->noise) ? jdouble(t->noise_param) : NULL);
     return o;
 }
 

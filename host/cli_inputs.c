@@ -134,23 +134,17 @@ int frt_cli_load_map(const char *path, frt_cli_map kind, float **data, frt_map *
 
 bool frt_parse_noise(const char *s, frt_noise_kind *kind, double *param)
 {
-    static const struct {
-        const char *name;
-        frt_noise_kind kind;
-    } names[] = {{"gauss", FRT_NOISE_GAUSS},
-                 {"truncated", FRT_NOISE_TRUNCATED},
-                 {"clt", FRT_NOISE_CLT},
-                 {"uniform", FRT_NOISE_UNIFORM}};
     const char *colon = strchr(s, ':');
     const size_t len = colon ? (size_t)(colon - s) : strlen(s);
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
-        if (strlen(names[i].name) == len && strncmp(s, names[i].name, len) == 0) {
-            *kind = names[i].kind;
+    for (frt_noise_kind k = FRT_NOISE_GAUSS; k <= FRT_NOISE_UNIFORM; ++k) {
+        const char *name = frt_noise_name(k);
+        if (strlen(name) == len && strncmp(s, name, len) == 0) {
+            *kind = k;
             *param = 0.0;
             if (!colon)
                 return true;
-            return (names[i].kind == FRT_NOISE_TRUNCATED || names[i].kind == FRT_NOISE_CLT) &&
-                   frt_parse_double(colon + 1, param) && *param > 0.0;
+            return frt_noise_has_param(k) && frt_parse_double(colon + 1, param) && *param > 0.0;
         }
+    }
     return false;
 }

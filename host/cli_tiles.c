@@ -35,6 +35,7 @@ static void tiles_help(void)
            "  --sigma S           amplitude, any non-zero real (default 1)\n"
            "  --seed U64          noise key, decimal or 0x hex (default 1)\n"
            "  --edge E            ffc (default) or periodic: the last tile's border wraps to column/row 0\n"
+           "  --noise DIST        gauss (default) | truncated[:K] | clt[:N] | uniform (ALGORITHM.md §2.8)\n"
            "  --backend B         auto | vulkan | cpu (default auto)\n"
            "  --device D          Vulkan device by index or name substring\n"
            "\n"
@@ -278,6 +279,9 @@ static char *index_json(const job *jb)
     json_object_object_add(p, "sigma", json_double(t->sigma));
     json_object_object_add(p, "seed", json_object_new_uint64(t->seed));
     json_object_object_add(p, "edge", json_object_new_string(edge_name(t)));
+    json_object_object_add(p, "noise", json_object_new_string(frt_noise_name(t->noise)));
+    if (frt_noise_has_param(t->noise))
+        json_object_object_add(p, "noise_param", json_double(t->noise_param));
     json_object_object_add(o, "parameters", p);
     const char *text = json_object_to_json_string_ext(o, JSON_C_TO_STRING_PRETTY | JSON_C_TO_STRING_SPACED |
                                                              JSON_C_TO_STRING_NOSLASHESCAPE);
@@ -537,7 +541,8 @@ int frt_cmd_tiles(int argc, char **argv)
         OPT_BITS,
         OPT_RANGE,
         OPT_PYRAMID,
-        OPT_ONLY
+        OPT_ONLY,
+        OPT_NOISE
     };
     static const struct option opts[] = {{"levels", required_argument, 0, OPT_LEVELS},
                                          {"hurst", required_argument, 0, FRT_OPT_HURST},
@@ -545,6 +550,7 @@ int frt_cmd_tiles(int argc, char **argv)
                                          {"sigma", required_argument, 0, FRT_OPT_SIGMA},
                                          {"seed", required_argument, 0, FRT_OPT_SEED},
                                          {"edge", required_argument, 0, FRT_OPT_EDGE},
+                                         {"noise", required_argument, 0, OPT_NOISE},
                                          {"backend", required_argument, 0, OPT_BACKEND},
                                          {"device", required_argument, 0, OPT_DEVICE},
                                          {"tile", required_argument, 0, OPT_TILE},
@@ -593,6 +599,11 @@ int frt_cmd_tiles(int argc, char **argv)
             have_dim |= c == FRT_OPT_DIMENSION;
             break;
         }
+        case OPT_NOISE:
+            if (!frt_parse_noise(optarg, &desc.noise, &desc.noise_param))
+                return frt_cli_fail(FRT_EXIT_USAGE,
+                                    "--noise must be gauss, truncated[:K], clt[:N] or uniform, got '%s'", optarg);
+            break;
         case OPT_BACKEND:
             if (!frt_parse_backend(optarg, &eng.backend))
                 return frt_cli_fail(FRT_EXIT_USAGE, "--backend must be auto, vulkan or cpu, got '%s'", optarg);
@@ -689,8 +700,11 @@ int frt_cmd_tiles(int argc, char **argv)
     if (jb.quantised && !jb.bits)
         jb.bits = 16;
     desc.region.width = desc.region.height = 1; /* more than FRT_MAX_LEVELS levels are valid for regions */
-    if (frt_terrain_desc_resolved(&desc, &jb.terrain) != FRT_SUCCESS)
-        return frt_cli_fail(FRT_EXIT_USAGE, "invalid parameters");
+    if (frt_terrain_desc_resolved(&desc, &jb.terrain) != FRT_SUCCESS) {
+        char why[256];
+        frt_terrain_desc_check(&desc, why, sizeof why);
+        return frt_cli_fail(FRT_EXIT_USAGE, "invalid parameters: %s", why);
+    }
     memset(&jb.terrain.region, 0, sizeof jb.terrain.region);
 
     /* The layout. A file holds at most 2^32 samples (FRT_FILE_MAX_POINTS). */

@@ -176,6 +176,23 @@ frt_result frt_terrain_extent(const frt_terrain_desc *desc, uint32_t *width, uin
     return r;
 }
 
+const char *frt_noise_name(frt_noise_kind kind)
+{
+    switch (kind) {
+    case FRT_NOISE_DEFAULT:
+    case FRT_NOISE_GAUSS: return "gauss";
+    case FRT_NOISE_TRUNCATED: return "truncated";
+    case FRT_NOISE_CLT: return "clt";
+    case FRT_NOISE_UNIFORM: return "uniform";
+    }
+    return "unknown";
+}
+
+bool frt_noise_has_param(frt_noise_kind kind)
+{
+    return kind == FRT_NOISE_TRUNCATED || kind == FRT_NOISE_CLT;
+}
+
 bool frt_region_is_set(const frt_region *g)
 {
     return g->x || g->y || g->width || g->height;

@@ -149,10 +149,8 @@ char *frt_meta_json(const frt_field_out *f, int style)
             json_object_object_add(o, "grid_side", json_object_new_int64(frt_terrain_side(&f->terrain)));
         }
         /* §2.8: the distribution, with its parameter where it has one */
-        static const char *const noise_names[] = {"gauss", "gauss", "truncated", "clt", "uniform"};
-        const unsigned nk = (unsigned)f->terrain.noise;
-        json_object_object_add(o, "noise", json_object_new_string(nk < 5 ? noise_names[nk] : "gauss"));
-        if (f->terrain.noise == FRT_NOISE_TRUNCATED || f->terrain.noise == FRT_NOISE_CLT)
+        json_object_object_add(o, "noise", json_object_new_string(frt_noise_name(f->terrain.noise)));
+        if (frt_noise_has_param(f->terrain.noise))
             put_double(o, "noise_param", f->terrain.noise_param);
         if (f->terrain.coarse) /* §3.4: levels 0..k came from known heights */
             json_object_object_add(o, "coarse_levels", json_object_new_int64(f->terrain.coarse_levels));
@@ -321,15 +319,13 @@ frt_result frt_meta_parse(const char *text, size_t len, frt_field_info *info, fr
         d.seed_is_explicit = true;
         d.edge = edge && strcmp(edge, "periodic") == 0 ? FRT_EDGE_PERIODIC : FRT_EDGE_FFC;
         const char *noise = get_string(root, "noise");
-        if (noise && strcmp(noise, "truncated") == 0)
-            d.noise = FRT_NOISE_TRUNCATED;
-        else if (noise && strcmp(noise, "clt") == 0)
-            d.noise = FRT_NOISE_CLT;
-        else if (noise && strcmp(noise, "uniform") == 0)
-            d.noise = FRT_NOISE_UNIFORM;
-        else if (noise && strcmp(noise, "gauss") != 0)
+        if (noise) {
             d.noise = (frt_noise_kind)99; /* unknown: fails the check below */
-        if (d.noise == FRT_NOISE_TRUNCATED || d.noise == FRT_NOISE_CLT)
+            for (frt_noise_kind k = FRT_NOISE_GAUSS; k <= FRT_NOISE_UNIFORM; ++k)
+                if (strcmp(noise, frt_noise_name(k)) == 0)
+                    d.noise = k;
+        }
+        if (frt_noise_has_param(d.noise))
             get_number(root, "noise_param", &d.noise_param);
         if (frt_terrain_desc_resolved(&d, &info->terrain) == FRT_SUCCESS &&
             (!has_grid_side || grid_side == frt_terrain_side(&info->terrain)))

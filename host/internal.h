@@ -66,6 +66,11 @@ static inline float frt_bits_float(uint32_t b)
 
 /* ---- desc.c ---- */
 bool frt_region_is_set(const frt_region *region);
+/* The names of docs/ALGORITHM.md §2.8, as the CLI takes them and the metadata records them: "gauss" (also for
+ * FRT_NOISE_DEFAULT), "truncated", "clt", "uniform"; "unknown" for a value outside the enum. */
+const char *frt_noise_name(frt_noise_kind kind);
+/* Whether the kind takes a parameter (truncated: K, clt: N). */
+bool frt_noise_has_param(frt_noise_kind kind);
 /* Largest side of a periodic region (so that lattice coordinates stay below 2^31). */
 #define FRT_REGION_MAX_SIDE (1u << 30)
 /* A box of lattice points at one level: columns x .. x+width-1, rows y .. y+height-1 of that level's lattice
@@ -159,7 +164,8 @@ struct frt_context {
     /* generate_vk.c: pipelines (made on first use) and the grid buffer, kept for reuse */
     VkPipelineLayout gen_layout;
     /* Pipelines per noise slot (frt_noise_slot: one per distribution path, its kind a specialization constant) */
-    VkPipeline gen_pipeline[FRT_PIPELINE_SLOTS][2]; /* [slot][0]: one cell per invocation, [slot][1]: a block of cells */
+    VkPipeline gen_pipeline[FRT_PIPELINE_SLOTS]
+                           [2]; /* [slot][0]: one cell per invocation, [slot][1]: a block of cells */
     VkPipelineLayout region_layout;
     VkPipeline region_pipeline[FRT_PIPELINE_SLOTS]; /* regions: one lattice point per invocation */
     struct frt_vk_buffer grid;

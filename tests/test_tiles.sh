@@ -197,6 +197,18 @@ PYEOF
     "$PY" -c 'import sys, numpy as np, tl; a = np.load(sys.argv[1] + "/0/0.npy"); assert tl.bits_equal(a, tl.whole(sys.argv[2], True))' \
         "$T/npy1" "$T/whole_periodic.npy" && ok || bad "T = 2^N: one periodic tile, the whole torus plus its wrapped border"
 
+# --noise: tiles of another distribution stitch into the whole grid of that distribution (two shares, two backends)
+"$BIN" generate --levels 7 --hurst 0.6 --seed 77 --noise truncated:2 --backend cpu -q -o "$T/whole_tr.npy" &&
+    "$BIN" tiles --levels 7 --tile 32 --hurst 0.6 --seed 77 --noise truncated:2 --format npy --backend cpu --only 0/2 -q --out "$T/tr" &&
+    "$BIN" tiles --levels 7 --tile 32 --hurst 0.6 --seed 77 --noise truncated:2 --format npy --only 1/2 -q --out "$T/tr" 2> /dev/null &&
+    ok || bad "truncated tiles"
+"$PY" - "$T/tr" "$T/whole_tr.npy" "$T/whole_ffc.npy" <<'PYEOF' && ok || bad "--noise truncated:2 tiles stitch into that whole grid and are recorded"
+import sys, numpy as np, tl
+s, ix = tl.stitch(sys.argv[1], "npy")
+assert tl.bits_equal(s, np.load(sys.argv[2])) and not tl.bits_equal(s, np.load(sys.argv[3]))
+assert ix["parameters"]["noise"] == "truncated" and ix["parameters"]["noise_param"] == 2, ix["parameters"]
+PYEOF
+
 # ---- index.json ----
 "$BIN" tiles --levels 9 --tile 128 --dimension 2.25 --sigma -3.5 --seed 18446744073709551615 --backend cpu --only 0/3 \
     -q --out "$T/ix_a" && ok || bad "index: share 0"
@@ -214,7 +226,7 @@ want = {"format": "fracterra tiles", "format_version": 1, "layout": "grid", "spe
 for k, v in want.items():
     assert ix[k] == v, (k, ix.get(k), v)
 p = ix["parameters"]
-assert p == {"hurst": 0.75, "dimension": 2.25, "sigma": -3.5, "seed": 18446744073709551615, "edge": "ffc"}, p
+assert p == {"hurst": 0.75, "dimension": 2.25, "sigma": -3.5, "seed": 18446744073709551615, "edge": "ffc", "noise": "gauss"}, p
 assert "range" not in ix and "bits" not in ix            # lossless tiles have no range
 assert "\"share" not in text and "\"only" not in text and "llvmpipe" not in text and "cpu" not in text
 assert text.endswith("}\n")
@@ -381,6 +393,8 @@ expect_fail 2 levels --levels 0 --tile 4 "${O[@]}"
 expect_fail 2 levels --levels 31 --tile 4 "${O[@]}"
 expect_fail 2 levels --levels x --tile 4 "${O[@]}"
 expect_fail 2 "missing --levels" --tile 4 "${O[@]}"
+expect_fail 2 "--noise" --levels 6 --tile 4 --noise cauchy "${O[@]}"
+expect_fail 2 "clt noise N" --levels 6 --tile 4 --noise clt:20 "${O[@]}"
 expect_fail 2 "missing --out" --levels 5 --tile 4
 expect_fail 2 "power of two" --levels 5 --tile 3 "${O[@]}"
 expect_fail 2 "power of two" --levels 5 --tile 0 "${O[@]}"
