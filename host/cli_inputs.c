@@ -38,7 +38,7 @@ int frt_cli_load_coarse(const char *path, bool periodic, bool fit_pad, float **g
     if (levels == 0) /* k >= 1: at least the 3 x 3 (2 x 2 periodic) grid */
         levels = 1;
     const uint32_t side = (1u << levels) + extra;
-    if (w == h && levels > 0 && side == w) {
+    if (w == h && side == w) {
         *k = levels;
         return FRT_EXIT_OK;
     }
